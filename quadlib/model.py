@@ -1,0 +1,168 @@
+"""Descriptions of a motion model and of a sensor.
+
+A :class:`Model` bundles the pure functions of a transition model
+(Tellex et al. §3, Algorithm 2):
+
+.. math::
+
+    \\bar\\mu_t = g(\\mu_{t-1}, u_t, \\Delta t), \\qquad
+    G_t = \\frac{\\partial g}{\\partial x}\\Big|_{\\mu_{t-1}}, \\qquad
+    \\bar\\Sigma_t = G_t \\Sigma_{t-1} G_t^\\top + Q(\\Delta t)
+
+and a :class:`Sensor` bundles a measurement model :math:`z = h(x) + v`,
+:math:`v \\sim \\mathcal N(0, R)`, with its Jacobian :math:`H = \\partial h / \\partial x`.
+Argument order is ``g(x, u, dt)`` everywhere (the seeds write ``g(u, x)``).
+Functions take and return 1-D arrays and never modify their inputs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .validation import as_covariance, as_positive, as_vector
+
+__all__ = ["Model", "Sensor"]
+
+Array = np.ndarray
+
+
+def _check_names(owner: str, field_name: str, names) -> tuple[str, ...]:
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise TypeError(f"{owner}.{field_name}: expected a sequence of str, got {names!r}")
+    names = tuple(names)
+    if len(set(names)) != len(names):
+        raise ValueError(f"{owner}.{field_name}: expected unique names, got {names}")
+    return names
+
+
+@dataclass(frozen=True)
+class Model:
+    """A discrete-time motion model ``x_k = g(x_{k-1}, u_k, dt) + w``, ``w ~ N(0, Q(dt))``.
+
+    Parameters
+    ----------
+    state_names : tuple of str
+        Names of the ``n`` state components, with units, e.g. ``("z [m]", "vz [m/s]")``.
+    input_names : tuple of str
+        Names of the ``m`` control inputs (may be empty).
+    g : callable ``g(x, u, dt) -> (n,)``
+        Transition function.
+    G : callable ``G(x, u, dt) -> (n, n)``
+        Jacobian of ``g`` with respect to ``x``.
+    Q : callable ``Q(dt) -> (n, n)``
+        Process-noise covariance accumulated over one step of length ``dt``.
+    B : callable ``B(x, u, dt) -> (n, m)``, optional
+        Jacobian of ``g`` with respect to ``u``. Required only by the linear
+        Kalman filter, which needs ``g(x, u, dt) = G x + B u``.
+    name : str
+        Short human-readable name.
+    """
+
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    g: Callable[[Array, Array, float], Array]
+    G: Callable[[Array, Array, float], Array]
+    Q: Callable[[float], Array]
+    B: Callable[[Array, Array, float], Array] | None = None
+    name: str = "model"
+
+    def __post_init__(self):
+        object.__setattr__(self, "state_names", _check_names("Model", "state_names", self.state_names))
+        object.__setattr__(self, "input_names", _check_names("Model", "input_names", self.input_names))
+        if not self.state_names:
+            raise ValueError("Model.state_names: expected at least one state, got none")
+        for attr in ("g", "G", "Q") + (("B",) if self.B is not None else ()):
+            if not callable(getattr(self, attr)):
+                raise TypeError(f"Model.{attr}: expected a callable, got {type(getattr(self, attr)).__name__}")
+
+    @property
+    def dim_x(self) -> int:
+        """Number of states ``n``."""
+        return len(self.state_names)
+
+    @property
+    def dim_u(self) -> int:
+        """Number of inputs ``m``."""
+        return len(self.input_names)
+
+    def check_state(self, x, name: str = "x") -> Array:
+        """Return ``x`` as a finite ``(n,)`` vector or raise ``ValueError``."""
+        return as_vector(name, x, self.dim_x)
+
+    def check_input(self, u, name: str = "u") -> Array:
+        """Return ``u`` as a finite ``(m,)`` vector (``None`` allowed when ``m == 0``)."""
+        if u is None and self.dim_u == 0:
+            return np.zeros(0)
+        if u is None:
+            raise ValueError(f"{name}: expected shape ({self.dim_u},), got None")
+        return as_vector(name, u, self.dim_u)
+
+    def step(self, x, u, dt) -> Array:
+        """Apply ``g`` once, with every argument checked."""
+        return as_vector(
+            "g(x, u, dt)",
+            self.g(self.check_state(x), self.check_input(u), as_positive("dt", dt)),
+            self.dim_x,
+        )
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """A measurement model ``z = h(x) + v``, ``v ~ N(0, R)``.
+
+    Parameters
+    ----------
+    name : str
+        Identifier used in logs and results, e.g. ``"range"``.
+    measurement_names : tuple of str
+        Names of the ``k`` measured components, with units.
+    h : callable ``h(x) -> (k,)``
+        Expected measurement for state ``x``.
+    H : callable ``H(x) -> (k, n)``
+        Jacobian of ``h``.
+    R : (k, k) array_like
+        Measurement-noise covariance (variances, not standard deviations).
+    residual : callable ``residual(z, z_hat) -> (k,)``, optional
+        Innovation ``z - z_hat``; give one that wraps angles to (-pi, pi].
+        The default ``np.subtract`` lets the filters take their fast path.
+    mean : callable ``mean(Z, weights) -> (k,)``, optional
+        Weighted mean of measurement sigma points ``Z`` of shape ``(2n+1, k)``,
+        for the UKF; give one for angles. Defaults to ``weights @ Z``.
+    rate_hz : float, optional
+        Nominal sample rate, for documentation and simulators.
+    """
+
+    name: str
+    measurement_names: tuple[str, ...]
+    h: Callable[[Array], Array]
+    H: Callable[[Array], Array]
+    R: Array
+    residual: Callable[[Array, Array], Array] = np.subtract
+    mean: Callable[[Array, Array], Array] | None = None
+    rate_hz: float | None = field(default=None)
+
+    def __post_init__(self):
+        names = _check_names(f"Sensor({self.name!r})", "measurement_names", self.measurement_names)
+        object.__setattr__(self, "measurement_names", names)
+        if not names:
+            raise ValueError(f"Sensor({self.name!r}).measurement_names: expected at least one, got none")
+        R = as_covariance(f"Sensor({self.name!r}).R", self.R, len(names))
+        R.setflags(write=False)
+        object.__setattr__(self, "R", R)
+        if self.rate_hz is not None:
+            object.__setattr__(self, "rate_hz", as_positive(f"Sensor({self.name!r}).rate_hz", self.rate_hz))
+        for attr in ("h", "H", "residual") + (("mean",) if self.mean is not None else ()):
+            if not callable(getattr(self, attr)):
+                raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable")
+
+    @property
+    def dim_z(self) -> int:
+        """Number of measured components ``k``."""
+        return len(self.measurement_names)
+
+    def check_measurement(self, z, name: str = "z") -> Array:
+        """Return ``z`` as a finite ``(k,)`` vector or raise ``ValueError``."""
+        return as_vector(f"{name} ({self.name})", z, self.dim_z)

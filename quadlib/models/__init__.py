@@ -1,0 +1,5 @@
+"""Motion and sensor models, one module per vehicle."""
+
+from . import height
+
+__all__ = ["height"]

@@ -1,0 +1,105 @@
+"""Generic simulation of a :class:`Model` and sampling of a :class:`Sensor`.
+
+Every stochastic function takes an ``rng`` (``numpy.random.Generator``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .model import Model, Sensor
+from .replay import Measurements
+from .validation import as_finite_array, as_positive, as_probability
+
+__all__ = ["sample_sensor", "simulate_model", "with_dropouts"]
+
+
+def _check_rng(rng) -> np.random.Generator:
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(
+            f"rng: expected a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
+        )
+    return rng
+
+
+def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> np.ndarray:
+    """Truth trajectory ``x[k] = g(x[k-1], u[k-1], dt) + w``, ``w ~ N(0, Q(dt))``.
+
+    Parameters
+    ----------
+    model : Model
+    x0 : (n,) initial state
+    t : (N,) strictly increasing times [s]
+    u : (N, m) inputs (``u[k]`` holds over ``[t[k], t[k+1])``), or None when m == 0
+    rng : numpy.random.Generator
+    process_noise : bool
+        Add the model's process noise (False gives the noise-free trajectory).
+
+    Returns
+    -------
+    (N, n) ndarray
+    """
+    rng = _check_rng(rng)
+    t = as_finite_array("t", t, ndim=1)
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("t: expected strictly increasing times (every dt > 0)")
+    N = t.shape[0]
+    if u is None:
+        u = np.zeros((N, model.dim_u))
+    u = as_finite_array("u", u)
+    if u.ndim == 1 and model.dim_u == 1:
+        u = u.reshape(-1, 1)
+    if u.shape != (N, model.dim_u):
+        raise ValueError(f"u: expected shape ({N}, {model.dim_u}), got {u.shape}")
+    x = np.empty((N, model.dim_x))
+    x[0] = model.check_state(x0, "x0")
+    for k in range(1, N):
+        dt = t[k] - t[k - 1]
+        x[k] = model.g(x[k - 1], u[k - 1], dt)
+        if process_noise:
+            x[k] += rng.multivariate_normal(np.zeros(model.dim_x), model.Q(dt), method="eigh")
+    return x
+
+
+def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Measurements:
+    """Noisy samples ``z = h(x) + v``, ``v ~ N(0, R)``, of a truth trajectory.
+
+    Parameters
+    ----------
+    sensor : Sensor
+    t : (N,) truth times [s]
+    x : (N, n) truth states
+    rng : numpy.random.Generator
+    rate_hz : float, optional
+        Sample rate; defaults to ``sensor.rate_hz``, or every truth step when
+        neither is set. Samples are taken at the truth times nearest to
+        multiples of the period, starting at ``t[0]``.
+
+    Returns
+    -------
+    Measurements
+    """
+    rng = _check_rng(rng)
+    t = as_finite_array("t", t, ndim=1)
+    x = as_finite_array("x", x, ndim=2)
+    if x.shape[0] != t.shape[0]:
+        raise ValueError(f"x: expected {t.shape[0]} rows to match t, got shape {x.shape}")
+    rate = rate_hz if rate_hz is not None else sensor.rate_hz
+    if rate is None:
+        idx = np.arange(t.shape[0])
+    else:
+        period = 1.0 / as_positive("rate_hz", rate)
+        wanted = np.arange(t[0], t[-1] + 1e-9, period)
+        idx = np.unique(np.clip(np.searchsorted(t, wanted - 1e-9), 0, t.shape[0] - 1))
+    clean = np.array([sensor.h(xi) for xi in x[idx]]).reshape(idx.size, sensor.dim_z)
+    noise = rng.multivariate_normal(np.zeros(sensor.dim_z), sensor.R, size=idx.size, method="eigh")
+    return Measurements(sensor, t[idx], clean + noise)
+
+
+def with_dropouts(measurements: Measurements, rng, probability: float) -> Measurements:
+    """Copy of ``measurements`` with each sample independently missing (NaN) with ``probability``."""
+    rng = _check_rng(rng)
+    p = as_probability("probability", probability, open_interval=False)
+    z = measurements.z.copy()
+    z[rng.random(z.shape[0]) < p] = np.nan
+    return Measurements(measurements.sensor, measurements.t, z)

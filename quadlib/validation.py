@@ -1,0 +1,140 @@
+"""Input checks shared by every public function.
+
+Each helper returns a clean ``float64`` array (or float) and raises
+``ValueError`` / ``TypeError`` with a message that names the argument, what
+was expected and what was given. Filters and models call these at their
+boundaries so that bad input fails loudly instead of producing a silently
+wrong estimate.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "as_covariance",
+    "as_finite_array",
+    "as_matrix",
+    "as_positive",
+    "as_probability",
+    "as_vector",
+]
+
+
+def _to_array(name: str, value) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise TypeError(
+            f"{name}: expected numbers (array_like of float), got {type(value).__name__}"
+        ) from err
+    return arr
+
+
+def _describe_bad(arr: np.ndarray) -> str:
+    n_nan = int(np.isnan(arr).sum())
+    n_inf = int(np.isinf(arr).sum())
+    parts = [f"{n_nan} NaN"] if n_nan else []
+    parts += [f"{n_inf} inf"] if n_inf else []
+    return " and ".join(parts)
+
+
+def as_finite_array(name: str, value, ndim: int | None = None) -> np.ndarray:
+    """Return ``value`` as a float array with only finite entries.
+
+    Parameters
+    ----------
+    name : str
+        Argument name used in error messages.
+    value : array_like
+        The input.
+    ndim : int, optional
+        Required number of dimensions.
+    """
+    arr = _to_array(name, value)
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected finite values, got {_describe_bad(arr)}")
+    return arr
+
+
+def as_vector(name: str, value, size: int | None = None) -> np.ndarray:
+    """Return ``value`` as a finite 1-D float array, optionally of length ``size``.
+
+    A scalar or an ``(n, 1)`` column is accepted and flattened, since filterpy
+    stores states as columns.
+    """
+    arr = _to_array(name, value)
+    if arr.ndim == 2 and 1 in arr.shape:
+        arr = arr.reshape(-1)
+    elif arr.ndim == 0:
+        arr = arr.reshape(1)
+    if arr.ndim != 1:
+        raise ValueError(f"{name}: expected a vector, got shape {arr.shape}")
+    if size is not None and arr.shape[0] != size:
+        raise ValueError(f"{name}: expected shape ({size},), got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected finite values, got {_describe_bad(arr)}")
+    return arr
+
+
+def as_matrix(name: str, value, shape: tuple[int, int]) -> np.ndarray:
+    """Return ``value`` as a finite float matrix of exactly ``shape``."""
+    arr = _to_array(name, value)
+    if arr.shape != tuple(shape):
+        raise ValueError(f"{name}: expected shape {tuple(shape)}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected finite values, got {_describe_bad(arr)}")
+    return arr
+
+
+def as_covariance(name: str, value, n: int, rtol: float = 1e-9) -> np.ndarray:
+    """Return ``value`` as an ``(n, n)`` symmetric positive semi-definite matrix.
+
+    A scalar is accepted for ``n == 1``. Symmetry is checked to a relative
+    tolerance ``rtol`` of the largest entry; the smallest eigenvalue may be
+    negative only by that same relative amount (rounding).
+    """
+    arr = _to_array(name, value)
+    if arr.ndim == 0 and n == 1:
+        arr = arr.reshape(1, 1)
+    arr = as_matrix(name, arr, (n, n))
+    scale = max(float(np.max(np.abs(arr))), np.finfo(float).tiny)
+    asym = float(np.max(np.abs(arr - arr.T)))
+    if asym > rtol * scale:
+        raise ValueError(
+            f"{name}: expected a symmetric covariance matrix, got max |A - A^T| = {asym:.3g}"
+        )
+    min_eig = float(np.linalg.eigvalsh(arr).min())
+    if min_eig < -rtol * scale:
+        raise ValueError(
+            f"{name}: expected a positive semi-definite covariance matrix, "
+            f"got smallest eigenvalue {min_eig:.3g}"
+        )
+    return arr
+
+
+def as_positive(name: str, value, allow_zero: bool = False) -> float:
+    """Return ``value`` as a finite float that is > 0 (or >= 0 with ``allow_zero``)."""
+    if isinstance(value, bool) or not np.isscalar(value) and np.ndim(value) != 0:
+        raise TypeError(f"{name}: expected a real number, got {type(value).__name__}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as err:
+        raise TypeError(f"{name}: expected a real number, got {value!r}") from err
+    ok = x >= 0 if allow_zero else x > 0
+    if not np.isfinite(x) or not ok:
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name}: expected a finite number {bound}, got {value!r}")
+    return x
+
+
+def as_probability(name: str, value, open_interval: bool = True) -> float:
+    """Return ``value`` as a float in (0, 1) (or [0, 1] when ``open_interval`` is False)."""
+    x = as_positive(name, value, allow_zero=True)
+    ok = 0 < x < 1 if open_interval else 0 <= x <= 1
+    if not ok:
+        interval = "(0, 1)" if open_interval else "[0, 1]"
+        raise ValueError(f"{name}: expected a number in {interval}, got {value!r}")
+    return x

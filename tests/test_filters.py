@@ -1,0 +1,198 @@
+import numpy as np
+import pytest
+from filterpy.kalman import KalmanFilter
+
+from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Sensor
+from quadlib.filters import gate_threshold
+from quadlib.models.height import height_model, range_sensor
+
+
+def constant_velocity(sigma_a=0.5):
+    """Linear [p, v] model with acceleration input and white-acceleration noise."""
+    def Q(dt):
+        return sigma_a**2 * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]])
+    return Model(("p", "v"), ("a",), g=lambda x, u, dt: np.array([x[0] + dt * x[1] + 0.5 * dt**2 * u[0],
+                                                                   x[1] + dt * u[0]]),
+                 G=lambda x, u, dt: np.array([[1.0, dt], [0.0, 1.0]]),
+                 B=lambda x, u, dt: np.array([[0.5 * dt**2], [dt]]), Q=Q, name="cv")
+
+
+def position_sensor(sigma=0.3):
+    return Sensor("pos", ("p",), h=lambda x: x[:1].copy(), H=lambda x: np.array([[1.0, 0.0]]),
+                  R=[[sigma**2]])
+
+
+def velocity_sensor(sigma=0.1):
+    return Sensor("vel", ("v",), h=lambda x: x[1:2].copy(), H=lambda x: np.array([[0.0, 1.0]]),
+                  R=[[sigma**2]])
+
+
+def pendulum():
+    """Nonlinear [angle, rate] model with a nonlinear range-like sensor."""
+    model = Model(("theta", "omega"), ("torque",),
+                  g=lambda x, u, dt: np.array([x[0] + dt * x[1], x[1] + dt * (-9.81 * np.sin(x[0]) + u[0])]),
+                  G=lambda x, u, dt: np.array([[1.0, dt], [-9.81 * dt * np.cos(x[0]), 1.0]]),
+                  Q=lambda dt: np.diag([1e-6, 1e-4]), name="pendulum")
+    sensor = Sensor("horiz", ("x",), h=lambda x: np.array([np.sin(x[0])]),
+                    H=lambda x: np.array([[np.cos(x[0]), 0.0]]), R=[[0.01]])
+    return model, sensor
+
+
+def test_kf_ekf_ukf_agree_on_linear_model():
+    model, pos, vel = constant_velocity(), position_sensor(), velocity_sensor()
+    rng = np.random.default_rng(3)
+    filters = [cls(model, [0.0, 1.0], np.diag([1.0, 0.5]), 0.01) for cls in (LinearKF, ModelEKF, ModelUKF)]
+    for k in range(300):
+        u = rng.normal(size=1)
+        for f in filters:
+            f.predict(u)
+        if k % 5 == 0:
+            z = rng.normal(size=1)
+            for f in filters:
+                f.update_sensor(pos, z)
+        if k % 7 == 0:  # a second sensor in some of the same steps
+            z = rng.normal(size=1)
+            for f in filters:
+                f.update_sensor(vel, z)
+    ref = filters[0]
+    for f in filters[1:]:
+        np.testing.assert_allclose(f.estimate, ref.estimate, atol=1e-10)
+        np.testing.assert_allclose(f.P, ref.P, atol=1e-10)
+
+
+def test_linear_kf_matches_bare_filterpy():
+    model, pos = constant_velocity(), position_sensor()
+    ours = LinearKF(model, [0.0, 0.0], np.eye(2), 0.1)
+    bare = KalmanFilter(dim_x=2, dim_z=1, dim_u=1)
+    bare.x, bare.P = np.zeros((2, 1)), np.eye(2)
+    bare.F, bare.B, bare.H, bare.R, bare.Q = model.G(None, None, 0.1), model.B(None, None, 0.1), \
+        np.array([[1.0, 0.0]]), np.array([[0.09]]), model.Q(0.1)
+    for z, u in [(0.1, 0.5), (0.4, -0.2), (0.3, 0.0)]:
+        ours.predict([u])
+        bare.predict(u=np.array([[u]]))
+        ours.update_sensor(pos, [z])
+        bare.update(np.array([[z]]))
+    np.testing.assert_allclose(ours.estimate, bare.x[:, 0], atol=1e-14)
+    np.testing.assert_allclose(ours.P, bare.P, atol=1e-14)
+
+
+def test_ekf_predict_uses_nonlinear_g_and_jacobian_at_previous_mean():
+    model, _ = pendulum()
+    x0, P0, dt = np.array([1.2, 0.3]), np.diag([0.04, 0.01]), 0.05
+    ekf = ModelEKF(model, x0, P0, dt)
+    ekf.predict([0.7])
+    G = model.G(x0, [0.7], dt)
+    np.testing.assert_allclose(ekf.estimate, model.g(x0, [0.7], dt), atol=1e-15)
+    np.testing.assert_allclose(ekf.P, G @ P0 @ G.T + model.Q(dt), atol=1e-15)
+    np.testing.assert_allclose(ekf.x_prior[:, 0], model.g(x0, [0.7], dt), atol=1e-15)
+
+
+def test_ekf_matches_algorithm_2_written_out():
+    """Tellex et al. Algorithm 2, in plain numpy, against the wrapper on a nonlinear problem."""
+    model, sensor = pendulum()
+    rng = np.random.default_rng(7)
+    mu, Sigma, dt = np.array([0.5, 0.0]), np.diag([0.1, 0.1]), 0.02
+    ekf = ModelEKF(model, mu, Sigma, dt)
+    for _ in range(200):
+        u, z = rng.normal(size=1), np.sin(0.5) + 0.1 * rng.normal(size=1)
+        G = model.G(mu, u, dt)
+        mu, Sigma = model.g(mu, u, dt), G @ Sigma @ G.T + model.Q(dt)
+        H = sensor.H(mu)
+        K = Sigma @ H.T @ np.linalg.inv(H @ Sigma @ H.T + sensor.R)
+        mu = mu + K @ (z - sensor.h(mu))
+        Sigma = (np.eye(2) - K @ H) @ Sigma
+        ekf.predict(u)
+        ekf.update_sensor(sensor, z)
+    np.testing.assert_allclose(ekf.estimate, mu, atol=1e-10)
+    np.testing.assert_allclose(ekf.P, Sigma, atol=1e-10)
+
+
+def test_ukf_passes_input_to_g():
+    model = constant_velocity()
+    ukf = ModelUKF(model, [1.0, 2.0], np.eye(2) * 1e-3, 0.1)
+    ukf.predict([3.0])
+    np.testing.assert_allclose(ukf.estimate, model.g(np.array([1.0, 2.0]), np.array([3.0]), 0.1), atol=1e-12)
+
+
+def test_ukf_update_before_first_predict_is_correct():
+    model, pos = constant_velocity(), position_sensor()
+    kf = LinearKF(model, [0.0, 0.0], np.eye(2), 0.1)
+    ukf = ModelUKF(model, [0.0, 0.0], np.eye(2), 0.1)
+    for f in (kf, ukf):
+        f.update_sensor(pos, [1.0])
+    np.testing.assert_allclose(ukf.estimate, kf.estimate, atol=1e-12)
+    assert ukf.estimate[0] == pytest.approx(1.0 / 1.09)
+
+
+def test_angle_residual_is_wrapped():
+    def wrap(a):
+        return (a + np.pi) % (2 * np.pi) - np.pi
+    model = Model(("psi",), (), g=lambda x, u, dt: x, G=lambda x, u, dt: np.eye(1), Q=lambda dt: np.eye(1) * 1e-6)
+    compass = Sensor("yaw", ("psi",), h=lambda x: x.copy(), H=lambda x: np.eye(1), R=[[0.01]],
+                     residual=lambda z, zh: wrap(z - zh))
+    for cls in (ModelEKF, ModelUKF):
+        f = cls(model, [np.pi - 0.01], [[0.01]], 0.1)
+        inn = f.update_sensor(compass, [-np.pi + 0.01])
+        assert inn.y[0] == pytest.approx(0.02, abs=1e-12), cls.__name__
+
+
+def test_gate_rejects_outlier_and_keeps_state():
+    model, pos = constant_velocity(), position_sensor(0.3)
+    for cls in (LinearKF, ModelEKF, ModelUKF):
+        f = cls(model, [0.0, 0.0], np.eye(2) * 0.01, 0.1)
+        x, P = f.estimate, f.P.copy()
+        inn = f.update_sensor(pos, [30.0], gate_probability=0.999)
+        assert not inn.accepted and inn.nis > gate_threshold(1, 0.999)
+        np.testing.assert_array_equal(f.estimate, x)
+        np.testing.assert_array_equal(f.P, P)
+        ok = f.update_sensor(pos, [0.1], gate_probability=0.999)
+        assert ok.accepted and f.estimate[0] > 0
+
+
+def test_gate_threshold_is_chi2_quantile():
+    assert gate_threshold(1, 0.95) == pytest.approx(3.841458820694124)
+    assert gate_threshold(2, 0.99) == pytest.approx(9.210340371976182)
+
+
+def test_linear_kf_refuses_nonlinear_model_and_sensor():
+    model, sensor = pendulum()
+    with_b = Model(model.state_names, model.input_names, model.g, model.G, model.Q,
+                   B=lambda x, u, dt: np.array([[0.0], [dt]]), name="pendulum")
+    with pytest.raises(ValueError, match="model: 'pendulum' is not linear"):
+        LinearKF(with_b, [0.0, 0.0], np.eye(2), 0.1)
+    kf = LinearKF(constant_velocity(), [0.0, 0.0], np.eye(2), 0.1)
+    with pytest.raises(ValueError, match="sensor: 'horiz' is not linear"):
+        kf.update_sensor(sensor, [0.1])
+    no_b = Model(("p",), ("a",), g=lambda x, u, dt: x + u, G=lambda x, u, dt: np.eye(1), Q=lambda dt: np.eye(1))
+    with pytest.raises(ValueError, match="has inputs but no B"):
+        LinearKF(no_b, [0.0], [[1.0]], 0.1)
+
+
+def test_constructor_and_update_arguments_checked():
+    model = height_model(0.1)
+    with pytest.raises(ValueError, match=r"x0: expected shape \(1,\), got \(2,\)"):
+        ModelEKF(model, [0.0, 1.0], [[1.0]], 0.1)
+    with pytest.raises(ValueError, match="P0: expected a positive semi-definite"):
+        ModelUKF(model, [0.0], [[-1.0]], 0.1)
+    with pytest.raises(ValueError, match="dt: expected a finite number > 0"):
+        LinearKF(model, [0.0], [[1.0]], 0.0)
+    with pytest.raises(TypeError, match="model: expected a quadlib Model"):
+        ModelEKF("height", [0.0], [[1.0]], 0.1)
+    f = ModelEKF(model, [0.0], [[1.0]], 0.1)
+    with pytest.raises(ValueError, match=r"z \(range\): expected finite values, got 1 NaN"):
+        f.update_sensor(range_sensor(0.1), [np.nan])
+    with pytest.raises(TypeError, match="sensor: expected a quadlib Sensor"):
+        f.update_sensor("range", [1.0])
+    with pytest.raises(ValueError, match=r"u: expected shape \(1,\), got \(2,\)"):
+        f.predict([1.0, 2.0])
+    with pytest.raises(ValueError, match="gate_probability: expected a number in"):
+        f.update_sensor(range_sensor(0.1), [1.0], gate_probability=1.5)
+
+
+def test_divergence_is_reported_not_silent():
+    model = Model(("a",), (), g=lambda x, u, dt: x * 1e200, G=lambda x, u, dt: np.eye(1) * 1e200,
+                  Q=lambda dt: np.eye(1))
+    f = ModelEKF(model, [1e200], [[1.0]], 0.1)
+    with np.errstate(over="ignore"):
+        with pytest.raises(FloatingPointError, match="ModelEKF.predict: the state or covariance became non-finite"):
+            f.predict()

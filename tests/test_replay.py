@@ -1,0 +1,99 @@
+import numpy as np
+import pytest
+
+from quadlib import Measurements, ModelEKF, run_filter
+from quadlib.models.height import height_model, range_sensor
+from quadlib.simulate import sample_sensor, simulate_model, with_dropouts
+
+
+@pytest.fixture
+def scenario():
+    model, sensor = height_model(0.2), range_sensor(0.3, rate_hz=10)
+    rng = np.random.default_rng(42)
+    t = np.arange(0, 20, 0.02)
+    u = np.full((t.size, 1), 0.3)
+    x = simulate_model(model, [1.0], t, u, rng)
+    return model, sensor, t, u, x, sample_sensor(sensor, t, x, rng), rng
+
+
+def test_run_filter_shapes_and_accuracy(scenario):
+    model, sensor, t, u, x, meas, _ = scenario
+    run = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [meas])
+    assert run.x.shape == (t.size, 1) and run.P.shape == (t.size, 1, 1)
+    tr = run.sensors["range"]
+    assert meas.t.size == 200 and tr.used.all() and not tr.missing.any()
+    err = run.x[:, 0] - x[:, 0]
+    assert np.sqrt(np.mean(err**2)) < 0.3 / 2  # much better than one raw sample
+    assert np.mean(np.abs(err) <= 2 * run.sigma[:, 0]) > 0.9
+
+
+def test_dropouts_are_skipped_and_counted(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    holed = with_dropouts(meas, rng, 0.3)
+    z = holed.z.copy()
+    z[(holed.t > 8) & (holed.t < 12)] = np.nan  # a 4 s outage
+    holed = Measurements(sensor, holed.t, z)
+    run = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [holed])
+    tr = run.sensors["range"]
+    assert tr.missing.sum() == np.isnan(z[:, 0]).sum() > 40
+    assert tr.used.sum() == meas.t.size - tr.missing.sum()
+    assert np.all(np.isnan(tr.nis[tr.missing]))
+    # during the outage the filter keeps predicting and its uncertainty grows
+    outage = (t > 8.1) & (t < 12)
+    assert np.all(np.diff(run.sigma[outage, 0]) > 0)
+    assert np.abs(run.x[:, 0] - x[:, 0]).max() < 1.0
+
+
+def test_gate_counts_outliers(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    z = meas.z.copy()
+    spikes = rng.choice(np.arange(20, z.shape[0]), 10, replace=False)
+    z[spikes] += 3.0  # 10 sigma
+    bad = Measurements(sensor, meas.t, z)
+    gated = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [bad], gate_probability=0.999)
+    plain = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [bad])
+    tr = gated.sensors["range"]
+    assert set(np.flatnonzero(tr.rejected)) >= set(spikes)
+    assert tr.rejected.sum() <= 12  # few false alarms at 0.1 %
+    err_gated = np.sqrt(np.mean((gated.x[:, 0] - x[:, 0]) ** 2))
+    err_plain = np.sqrt(np.mean((plain.x[:, 0] - x[:, 0]) ** 2))
+    assert err_gated < 0.8 * err_plain
+
+
+def test_samples_apply_at_first_step_at_or_after_their_time():
+    model, sensor = height_model(0.1), range_sensor(0.1)
+    t = np.array([0.0, 0.1, 0.2, 0.3])
+    meas = Measurements(sensor, [0.0, 0.15, 0.3], [[1.0], [2.0], [3.0]])
+    f = ModelEKF(model, [0.0], [[100.0]], 0.1)
+    run = run_filter(f, t, np.zeros((4, 1)), [meas])
+    assert run.x[0, 0] == pytest.approx(1.0, abs=0.01)  # applied at t[0] before any predict
+    assert run.x[1, 0] == pytest.approx(run.x[0, 0], abs=1e-12)  # nothing new at 0.1
+    assert run.x[2, 0] > 1.5  # the 0.15 s sample lands at 0.2 s
+
+
+def test_run_filter_input_errors(scenario):
+    model, sensor, t, u, x, meas, _ = scenario
+    f = ModelEKF(model, [1.0], [[0.1]], 0.02)
+    with pytest.raises(ValueError, match="t: expected strictly increasing times"):
+        run_filter(f, t[::-1], u, [meas])
+    with pytest.raises(ValueError, match=r"u: expected shape \(1000, 1\), got \(999, 1\)"):
+        run_filter(f, t, u[1:], [meas])
+    with pytest.raises(ValueError, match=r"u: expected shape \(1000, 1\), got None"):
+        run_filter(f, t, None, [meas])
+    late = Measurements(sensor, meas.t + 100, meas.z)
+    with pytest.raises(ValueError, match=r"measurements\[0\] \('range'\).t: expected times within"):
+        run_filter(f, t, u, [late])
+    with pytest.raises(ValueError, match="expected one entry per sensor name"):
+        run_filter(f, t, u, [meas, meas])
+    with pytest.raises(TypeError, match=r"measurements\[0\]: expected Measurements"):
+        run_filter(f, t, u, [(meas.t, meas.z)])
+
+
+def test_measurements_validation():
+    s = range_sensor(0.1)
+    with pytest.raises(ValueError, match=r"Measurements\('range'\).z: expected shape \(2, 1\), got \(3, 1\)"):
+        Measurements(s, [0.0, 1.0], [[1.0], [2.0], [3.0]])
+    with pytest.raises(ValueError, match="expected non-decreasing times"):
+        Measurements(s, [1.0, 0.0], [1.0, 2.0])
+    with pytest.raises(ValueError, match="got inf"):
+        Measurements(s, [0.0, 1.0], [1.0, np.inf])
