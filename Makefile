@@ -1,0 +1,45 @@
+# The two commands: `make book` (execute every chapter, build the HTML book) and
+# `make test` (unit tests + nbval over every notebook). Both create .venv from
+# environment.txt on first use; PYTHON picks the interpreter for that venv.
+PYTHON ?= python3.11
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: book test unit nbval lab benchmark lint clean
+
+$(STAMP): environment.txt pyproject.toml
+	@command -v $(PYTHON) >/dev/null 2>&1 || { echo "error: $(PYTHON) not found; run 'make PYTHON=/path/to/python3.11 ...'" >&2; exit 1; }
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -r environment.txt
+	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
+	@touch $(STAMP)
+
+book: $(STAMP)
+	rm -rf book/chapters _build/html
+	mkdir -p book/chapters
+	cp notebooks/*.ipynb book/chapters/
+	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html book _build/html
+	@echo "Book built: $(CURDIR)/_build/html/index.html"
+
+test: unit nbval
+
+unit: $(STAMP)
+	$(BIN)/python -m pytest tests
+
+nbval: $(STAMP)
+	$(BIN)/python -m pytest --nbval notebooks --nbval-sanitize-with notebooks/nbval_sanitize.cfg \
+		--nbval-cell-timeout=300 -p no:cacheprovider
+
+lab: $(STAMP)
+	$(BIN)/jupyter lab notebooks
+
+benchmark: $(STAMP)
+	$(BIN)/python benchmarks/run_all.py
+
+lint: $(STAMP)
+	$(BIN)/ruff check quadlib tests benchmarks book/conf.py
+
+clean:
+	rm -rf _build book/chapters .jupyter_cache
