@@ -1,0 +1,43 @@
+"""Execute chapter notebooks top to bottom and store them with outputs and normalised metadata.
+
+Usage: ``python scripts/refresh_notebooks.py [notebooks/NN_name.ipynb ...]`` (default: all).
+Run after editing a chapter, so that the outputs nbval compares are fresh,
+counted 1, 2, 3 … and free of per-run metadata (timings, widget state).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+
+NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
+KEEP_CELL_METADATA = ("tags", "jupyter", "editable", "deletable")
+
+
+def normalise(nb: nbformat.NotebookNode) -> None:
+    nb.metadata = {
+        "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
+        "language_info": {"name": "python", "pygments_lexer": "ipython3"},
+    }
+    for cell in nb.cells:
+        cell.metadata = {k: v for k, v in cell.metadata.items() if k in KEEP_CELL_METADATA}
+
+
+def refresh(path: Path) -> float:
+    nb = nbformat.read(path, as_version=4)
+    start = time.perf_counter()
+    NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+    elapsed = time.perf_counter() - start
+    normalise(nb)
+    nbformat.write(nb, path)
+    return elapsed
+
+
+if __name__ == "__main__":
+    paths = [Path(p) for p in sys.argv[1:]] or sorted(NOTEBOOKS.glob("[0-9]*.ipynb"))
+    for p in paths:
+        print(f"{p.name}: executed in {refresh(p):.1f} s", flush=True)
