@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .validation import as_covariance, as_positive, as_vector
+from .validation import as_covariance, as_finite_array, as_positive, as_vector
 
 __all__ = ["Model", "Sensor"]
 
@@ -99,6 +99,23 @@ class Model:
         if u is None:
             raise ValueError(f"{name}: expected shape ({self.dim_u},), got None")
         return as_vector(name, u, self.dim_u)
+
+    def check_inputs(self, u, n_steps: int, name: str = "u") -> Array:
+        """Return an input series as a finite ``(n_steps, m)`` array.
+
+        ``None`` is accepted for a model without inputs, and a 1-D array for a
+        model with one input.
+        """
+        if u is None:
+            if self.dim_u:
+                raise ValueError(f"{name}: expected shape ({n_steps}, {self.dim_u}), got None")
+            return np.zeros((n_steps, 0))
+        u = as_finite_array(name, u)
+        if u.ndim == 1 and self.dim_u == 1:
+            u = u.reshape(-1, 1)
+        if u.shape != (n_steps, self.dim_u):
+            raise ValueError(f"{name}: expected shape ({n_steps}, {self.dim_u}), got {u.shape}")
+        return u
 
     def step(self, x, u, dt) -> Array:
         """Apply ``g`` once, with every argument checked."""

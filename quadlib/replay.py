@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .model import Sensor
-from .validation import as_finite_array, as_probability
+from .validation import as_finite_array, as_probability, as_times
 
 __all__ = ["FilterRun", "Measurements", "SensorTrace", "run_filter"]
 
@@ -131,22 +131,10 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     -------
     FilterRun
     """
-    t = as_finite_array("t", t, ndim=1)
+    t = as_times("t", t)
     N = t.shape[0]
-    if N < 1:
-        raise ValueError("t: expected at least one time, got an empty array")
-    if np.any(np.diff(t) <= 0):
-        raise ValueError("t: expected strictly increasing times (every dt > 0)")
     model = filt.model
-    if u is None:
-        if model.dim_u:
-            raise ValueError(f"u: expected shape ({N}, {model.dim_u}), got None")
-        u = np.zeros((N, 0))
-    u = as_finite_array("u", u)
-    if u.ndim == 1 and model.dim_u == 1:
-        u = u.reshape(-1, 1)
-    if u.shape != (N, model.dim_u):
-        raise ValueError(f"u: expected shape ({N}, {model.dim_u}), got {u.shape}")
+    u = model.check_inputs(u, N)
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
     measurements = list(measurements)

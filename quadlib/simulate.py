@@ -9,7 +9,7 @@ import numpy as np
 
 from .model import Model, Sensor
 from .replay import Measurements
-from .validation import as_finite_array, as_positive, as_probability
+from .validation import as_finite_array, as_positive, as_probability, as_times
 
 __all__ = ["sample_sensor", "simulate_model", "with_dropouts"]
 
@@ -40,17 +40,9 @@ def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> n
     (N, n) ndarray
     """
     rng = _check_rng(rng)
-    t = as_finite_array("t", t, ndim=1)
-    if np.any(np.diff(t) <= 0):
-        raise ValueError("t: expected strictly increasing times (every dt > 0)")
+    t = as_times("t", t)
     N = t.shape[0]
-    if u is None:
-        u = np.zeros((N, model.dim_u))
-    u = as_finite_array("u", u)
-    if u.ndim == 1 and model.dim_u == 1:
-        u = u.reshape(-1, 1)
-    if u.shape != (N, model.dim_u):
-        raise ValueError(f"u: expected shape ({N}, {model.dim_u}), got {u.shape}")
+    u = model.check_inputs(u, N)
     x = np.empty((N, model.dim_x))
     x[0] = model.check_state(x0, "x0")
     for k in range(1, N):

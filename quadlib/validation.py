@@ -17,6 +17,7 @@ __all__ = [
     "as_matrix",
     "as_positive",
     "as_probability",
+    "as_times",
     "as_vector",
 ]
 
@@ -138,3 +139,13 @@ def as_probability(name: str, value, open_interval: bool = True) -> float:
         interval = "(0, 1)" if open_interval else "[0, 1]"
         raise ValueError(f"{name}: expected a number in {interval}, got {value!r}")
     return x
+
+
+def as_times(name: str, value) -> np.ndarray:
+    """Return ``value`` as a non-empty, finite, strictly increasing 1-D array of times [s]."""
+    t = as_finite_array(name, value, ndim=1)
+    if t.size == 0:
+        raise ValueError(f"{name}: expected at least one time, got an empty array")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError(f"{name}: expected strictly increasing times (every dt > 0)")
+    return t

@@ -69,3 +69,13 @@ def test_height_model_noise_arguments_validated():
 def test_height_model_Q_scales_with_dt_squared():
     m = height_model(0.2)
     assert m.Q(0.5)[0, 0] == pytest.approx((0.2 * 0.5) ** 2)
+
+
+def test_check_inputs_series():
+    m = height_model(0.1)
+    assert m.check_inputs([0.1, 0.2], 2).shape == (2, 1)
+    with pytest.raises(ValueError, match=r"u: expected shape \(3, 1\), got None"):
+        m.check_inputs(None, 3)
+    with pytest.raises(ValueError, match=r"u: expected shape \(3, 1\), got \(2, 1\)"):
+        m.check_inputs([[0.1], [0.2]], 3)
+    assert _identity_model().check_inputs(None, 4).shape == (4, 0)

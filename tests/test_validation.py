@@ -72,3 +72,12 @@ def test_as_probability():
 def test_as_finite_array_ndim():
     with pytest.raises(ValueError, match=r"t: expected a 1-D array, got shape \(2, 2\)"):
         as_finite_array("t", np.ones((2, 2)), ndim=1)
+
+
+def test_as_times():
+    from quadlib.validation import as_times
+    assert as_times("t", [0.0, 0.5]).tolist() == [0.0, 0.5]
+    with pytest.raises(ValueError, match="t: expected strictly increasing times"):
+        as_times("t", [0.0, 0.0])
+    with pytest.raises(ValueError, match="t: expected at least one time"):
+        as_times("t", [])
