@@ -23,14 +23,17 @@ book: $(STAMP)
 	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html book _build/html
 	@echo "Book built: $(CURDIR)/_build/html/index.html"
 
-test: unit nbval
+NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
+
+# One pytest session: unit tests and every notebook's stored outputs (nbval strict).
+test: $(STAMP)
+	$(BIN)/python -m pytest tests notebooks $(NBVAL)
 
 unit: $(STAMP)
 	$(BIN)/python -m pytest tests
 
 nbval: $(STAMP)
-	$(BIN)/python -m pytest --nbval notebooks --nbval-sanitize-with notebooks/nbval_sanitize.cfg \
-		--nbval-cell-timeout=300 -p no:cacheprovider
+	$(BIN)/python -m pytest notebooks $(NBVAL)
 
 lab: $(STAMP)
 	$(BIN)/jupyter lab notebooks
