@@ -42,7 +42,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check quadlib tests benchmarks book/conf.py
+	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py
 
 clean:
 	rm -rf _build book/chapters .jupyter_cache
