@@ -89,7 +89,8 @@ class _ModelFilter:
         return self.estimate, self.model.check_input(u), dt
 
     def _check_finite(self, step: str) -> None:
-        if not (np.all(np.isfinite(self.x)) and np.all(np.isfinite(self.P))):
+        # one reduction: a sum is finite only if every term is (or it overflows, near 1e308)
+        if not np.isfinite(self.x.sum() + self.P.sum()):
             raise FloatingPointError(
                 f"{type(self).__name__}.{step}: the state or covariance became non-finite; "
                 "check the model, Q, R and the inputs"
@@ -122,7 +123,7 @@ class _ModelFilter:
         self._update(sensor, z)
         y = np.asarray(self.y, dtype=float).reshape(-1)
         S = np.asarray(self.S, dtype=float).reshape(sensor.dim_z, sensor.dim_z)
-        nis = float(y @ np.linalg.solve(S, y))
+        nis = float(y @ np.asarray(self.SI).reshape(S.shape) @ y)  # filterpy has already inverted S
         accepted = gate_probability is None or nis <= gate_threshold(sensor.dim_z, gate_probability)
         if not accepted:
             self.x, self.P = saved
