@@ -51,9 +51,9 @@ def gaussian_kernel(sigma_cells: float, half_width: int | None = None) -> np.nda
     half = int(np.ceil(5 * s)) if half_width is None else int(half_width)
     if half < 0:
         raise ValueError(f"half_width: expected an integer >= 0, got {half_width!r}")
-    edges = np.arange(-half, half + 2) - 0.5
-    mass = np.diff(norm.cdf(edges / s))
-    return mass / mass.sum()
+    if half == 0:
+        return np.ones(1)  # all mass stays in its cell
+    return gaussian_belief(np.arange(-half, half + 1, dtype=float), 0.0, s)
 
 
 def gaussian_belief(grid, mean: float, std: float) -> np.ndarray:

@@ -54,3 +54,7 @@ def test_belief_errors():
         belief_mean_std(grid, [1.0, -1.0, 0.5])
     with pytest.raises(ValueError, match="mean: N"):
         gaussian_belief(grid, 100.0, 0.01)
+
+
+def test_kernel_of_zero_half_width_is_identity():
+    np.testing.assert_array_equal(gaussian_kernel(1.0, half_width=0), [1.0])
