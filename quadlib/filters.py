@@ -78,15 +78,21 @@ class _ModelFilter:
         self.dt = as_positive("dt", dt)
         self._x0 = as_vector("x0", x0, model.dim_x)
         self._P0 = as_covariance("P0", P0, model.dim_x)
+        self._q_dt = self.dt
+        self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_x)  # checked once
 
     @property
     def estimate(self) -> np.ndarray:
         """The current state mean as a 1-D copy, shape ``(n,)``."""
         return np.array(self.x, dtype=float).reshape(-1)
 
-    def _predict_args(self, u, dt):
-        dt = self.dt if dt is None else as_positive("dt", dt)
-        return self.estimate, self.model.check_input(u), dt
+    def _process_noise(self, dt: float) -> np.ndarray:
+        # Q depends on dt only. A uniform time grid asks for the same dt every step, up to float
+        # jitter (the differences of 0.02 * arange(N) vary in the last bits), so Q(dt) is reused
+        # while dt stays within a relative 1e-9 of the dt it was computed for.
+        if abs(dt - self._q_dt) > 1e-9 * dt:
+            self._q_dt, self._q = dt, np.asarray(self.model.Q(dt), dtype=float)
+        return self._q
 
     def _check_finite(self, step: str) -> None:
         # one reduction: a sum is finite only if every term is (or it overflows, near 1e308)
@@ -95,6 +101,12 @@ class _ModelFilter:
                 f"{type(self).__name__}.{step}: the state or covariance became non-finite; "
                 "check the model, Q, R and the inputs"
             )
+
+    def predict(self, u=None, dt: float | None = None) -> None:
+        """Propagate mean and covariance over ``dt`` [s] (default: the filter's ``dt``) with input ``u``."""
+        dt = self.dt if dt is None else as_positive("dt", dt)
+        self._predict(self.model.check_input(u), dt)
+        self._check_finite("predict")
 
     def update_sensor(self, sensor: Sensor, z, gate_probability: float | None = None) -> Innovation:
         """Update with one sample of ``sensor``.
@@ -117,18 +129,26 @@ class _ModelFilter:
         if not isinstance(sensor, Sensor):
             raise TypeError(f"sensor: expected a quadlib Sensor, got {type(sensor).__name__}")
         z = sensor.check_measurement(z)
+        gate = None
         if gate_probability is not None:
-            gate_probability = as_probability("gate_probability", gate_probability)
+            gate = gate_threshold(sensor.dim_z, as_probability("gate_probability", gate_probability))
+        innovation = self._update_sensor(sensor, z, gate)
+        self._check_finite("update_sensor")
+        return innovation
+
+    def _update_sensor(self, sensor: Sensor, z: np.ndarray, gate: float | None) -> Innovation:
+        """Update without argument checks (callers have validated ``sensor`` and ``z``)."""
+        if gate is not None:
             saved = (self.x.copy(), self.P.copy())
         self._update(sensor, z)
-        y = np.asarray(self.y, dtype=float).reshape(-1)
-        S = np.asarray(self.S, dtype=float).reshape(sensor.dim_z, sensor.dim_z)
-        nis = float(y @ np.asarray(self.SI).reshape(S.shape) @ y)  # filterpy has already inverted S
-        accepted = gate_probability is None or nis <= gate_threshold(sensor.dim_z, gate_probability)
+        k = sensor.dim_z
+        y = self.y.reshape(k)
+        S = self.S.reshape(k, k)
+        nis = float(y @ self.SI.reshape(k, k) @ y)  # filterpy has already inverted S
+        accepted = gate is None or nis <= gate
         if not accepted:
             self.x, self.P = saved
             self.x_post, self.P_post = saved[0].copy(), saved[1].copy()
-        self._check_finite("update_sensor")
         return Innovation(y, S, nis, accepted)
 
 
@@ -184,14 +204,12 @@ class LinearKF(_ModelFilter, KalmanFilter):
             raise ValueError(f"sensor: {sensor.name!r} is not linear (h(x) != H x); use ModelEKF or ModelUKF")
         self._linear_checked.add(id(sensor))
 
-    def predict(self, u=None, dt: float | None = None) -> None:  # noqa: D401 (filterpy name)
-        """Propagate mean and covariance over ``dt`` with input ``u`` of shape ``(m,)``."""
-        x, u, dt = self._predict_args(u, dt)
+    def _predict(self, u: np.ndarray, dt: float) -> None:
         m = self.model
+        x = self.x[:, 0]
         F = np.asarray(m.G(x, u, dt), dtype=float)
         B = np.asarray(m.B(x, u, dt), dtype=float) if m.dim_u else None
-        KalmanFilter.predict(self, u=u.reshape(-1, 1) if m.dim_u else None, B=B, F=F, Q=m.Q(dt))
-        self._check_finite("predict")
+        KalmanFilter.predict(self, u=u.reshape(-1, 1) if m.dim_u else None, B=B, F=F, Q=self._process_noise(dt))
 
     def _update(self, sensor: Sensor, z: np.ndarray) -> None:
         self._check_sensor_linear(sensor)
@@ -226,14 +244,13 @@ class ModelEKF(_ModelFilter, ExtendedKalmanFilter):
         self.P = self._P0.copy()
         self._step = None
 
-    def predict(self, u=None, dt: float | None = None) -> None:
-        """Propagate with ``g`` and ``G`` (evaluated at the previous mean) over ``dt``."""
-        x, u, dt = self._predict_args(u, dt)
+    def _predict(self, u: np.ndarray, dt: float) -> None:
+        # filterpy's predict calls predict_x (below, the nonlinear g), then P = F P Fᵀ + Q
+        x = self.x[:, 0]
         self.F = np.asarray(self.model.G(x, u, dt), dtype=float)
-        self.Q = self.model.Q(dt)
+        self.Q = self._process_noise(dt)
         self._step = (x, u, dt)
-        ExtendedKalmanFilter.predict(self, u)  # calls predict_x below, then P = F P Fᵀ + Q
-        self._check_finite("predict")
+        ExtendedKalmanFilter.predict(self, u)
 
     def predict_x(self, u=0) -> None:
         """Mean prediction with the model's ``g`` (replaces filterpy's ``F x + B u``)."""
@@ -281,10 +298,10 @@ class ModelUKF(_ModelFilter, UnscentedKalmanFilter):
 
     Notes
     -----
-    Differs from plain filterpy: the sigma points are redrawn from the
-    current ``(x, P)`` before every update. filterpy reuses those of the last
-    predict, which is wrong for an update before the first predict and for
-    the second of two sensors updating in the same step.
+    Differs from plain filterpy: an update always uses sigma points drawn
+    from the current ``(x, P)``. filterpy reuses those of the last predict,
+    which is wrong for an update before the first predict and for the second
+    of two sensors updating in the same step; ``ModelUKF`` redraws them then.
     """
 
     def __init__(self, model: Model, x0, P0, dt: float, *, alpha: float = 0.5, beta: float = 2.0,
@@ -302,19 +319,22 @@ class ModelUKF(_ModelFilter, UnscentedKalmanFilter):
         )
         self.x = self._x0.copy()
         self.P = self._P0.copy()
+        self._sigmas_drawn_from = (None, None)
 
-    def predict(self, u=None, dt: float | None = None) -> None:
-        """Propagate the sigma points through ``g(x, u, dt)`` and add ``Q(dt)``."""
-        _, u, dt = self._predict_args(u, dt)
-        self.Q = self.model.Q(dt)
+    def _predict(self, u: np.ndarray, dt: float) -> None:
+        # propagate the sigma points through g(x, u, dt), then add Q(dt)
+        self.Q = self._process_noise(dt)
         UnscentedKalmanFilter.predict(self, dt=dt, u=u)
-        self._check_finite("predict")
+        self._sigmas_drawn_from = (self.x, self.P)
 
     def _update(self, sensor: Sensor, z: np.ndarray) -> None:
         # filterpy updates with the sigma points of the last predict: zeros before the
         # first predict, and stale after an earlier update in the same step (a second
-        # sensor). Redraw them from the current mean and covariance.
-        self.sigmas_f = self.points_fn.sigma_points(self.x, self.P)
+        # sensor). Redraw them from the current mean and covariance, unless a predict
+        # (which ends by redrawing them from its result) produced the current x and P.
+        drawn_x, drawn_P = self._sigmas_drawn_from
+        if drawn_x is not self.x or drawn_P is not self.P:
+            self.sigmas_f = self.points_fn.sigma_points(self.x, self.P)
         self.residual_z = sensor.residual
         self.z_mean = sensor.mean
         UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=sensor.h)

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .filters import _ModelFilter, gate_threshold
 from .model import Sensor
 from .validation import as_finite_array, as_probability, as_times
 
@@ -131,6 +132,8 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     -------
     FilterRun
     """
+    if not isinstance(filt, _ModelFilter):
+        raise TypeError(f"filt: expected a LinearKF, ModelEKF or ModelUKF, got {type(filt).__name__}")
     t = as_times("t", t)
     N = t.shape[0]
     model = filt.model
@@ -164,28 +167,45 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     else:
         events = []
 
+    missing = [np.isnan(m.z).any(axis=1) for m in measurements]
+    gates = [None if gate_probability is None else gate_threshold(m.sensor.dim_z, gate_probability)
+             for m in measurements]
+    schedule: dict[int, list] = {}  # step -> the updates applied after its predict
+    for k, i, j in events:
+        if not missing[i][j]:
+            m = measurements[i]
+            schedule.setdefault(k, []).append((i, j, m.sensor, m.z[j], gates[i]))
+
+    # Everything was validated above, so the loop uses the filter's unchecked steps
+    # and the whole trajectory is checked for non-finite values once at the end.
     n = model.dim_x
     xs, Ps = np.empty((N, n)), np.empty((N, n, n))
+    inputs, dts = list(u), np.diff(t).tolist()
+    done = []  # (sensor index, sample index, Innovation)
+    for k in range(N):
+        if k:
+            filt._predict(inputs[k - 1], dts[k - 1])
+        for i, j, sensor, z, gate in schedule.get(k, ()):
+            done.append((i, j, filt._update_sensor(sensor, z, gate)))
+        xs[k] = filt.x.reshape(n)
+        Ps[k] = filt.P
+
     traces = []
-    for m in measurements:
+    for i, m in enumerate(measurements):
         K, k = m.z.shape
         traces.append(dict(innovation=np.full((K, k), np.nan), S=np.full((K, k, k), np.nan),
                            nis=np.full(K, np.nan), used=np.zeros(K, bool), rejected=np.zeros(K, bool),
-                           missing=np.isnan(m.z).any(axis=1)))
-    e = 0
-    for k in range(N):
-        if k:
-            filt.predict(u[k - 1], dt=t[k] - t[k - 1])
-        while e < len(events) and events[e][0] == k:
-            _, i, j = events[e]
-            e += 1
-            tr = traces[i]
-            if tr["missing"][j]:
-                continue
-            inn = filt.update_sensor(measurements[i].sensor, measurements[i].z[j], gate_probability)
-            tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
-            tr["used"][j], tr["rejected"][j] = inn.accepted, not inn.accepted
-        xs[k] = filt.estimate
-        Ps[k] = filt.P
+                           missing=missing[i]))
+    for i, j, inn in done:
+        tr = traces[i]
+        tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
+        tr["used"][j], tr["rejected"][j] = inn.accepted, not inn.accepted
+    bad = ~np.isfinite(xs).all(axis=1) | ~np.isfinite(Ps).all(axis=(1, 2))
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise FloatingPointError(
+            f"run_filter: the state or covariance became non-finite at t[{k}] = {t[k]:.6g} s; "
+            "check the model, Q, R and the inputs"
+        )
     sensors = {m.sensor.name: SensorTrace(t=m.t, **tr) for m, tr in zip(measurements, traces, strict=True)}
     return FilterRun(t=t, x=xs, P=Ps, sensors=sensors)

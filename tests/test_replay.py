@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 
@@ -97,3 +99,43 @@ def test_measurements_validation():
         Measurements(s, [1.0, 0.0], [1.0, 2.0])
     with pytest.raises(ValueError, match="got inf"):
         Measurements(s, [0.0, 1.0], [1.0, np.inf])
+
+
+def test_run_filter_names_the_time_where_the_estimate_became_non_finite(scenario):
+    model, sensor, t, u, x, meas, _ = scenario
+    u = u.copy()
+    u[500:, 0] = 1e308  # the height overflows to inf after some steps
+    with np.errstate(over="ignore", invalid="ignore"), pytest.raises(FloatingPointError) as err:
+        run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [meas])
+    k = int(re.search(r"non-finite at t\[(\d+)\]", str(err.value)).group(1))
+    assert k > 500 and f"= {t[k]:.6g} s" in str(err.value)
+    # the checked step-by-step API stops at the same step
+    f = ModelEKF(model, [1.0], [[0.1]], 0.02)
+    with np.errstate(over="ignore", invalid="ignore"), pytest.raises(FloatingPointError):
+        for i in range(1, k + 1):
+            f.predict(u[i - 1], dt=t[i] - t[i - 1])
+            if np.any(np.isclose(meas.t, t[i])):
+                f.update_sensor(sensor, meas.z[np.isclose(meas.t, t[i])][0])
+    assert i == k
+
+
+def test_run_filter_refuses_a_bare_filterpy_filter(scenario):
+    from filterpy.kalman import KalmanFilter
+
+    model, sensor, t, u, x, meas, _ = scenario
+    with pytest.raises(TypeError, match="filt: expected a LinearKF, ModelEKF or ModelUKF, got KalmanFilter"):
+        run_filter(KalmanFilter(dim_x=1, dim_z=1), t, u, [meas])
+
+
+def test_run_filter_matches_a_loop_of_checked_calls(scenario):
+    model, sensor, t, u, x, meas, _ = scenario
+    run = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [meas], gate_probability=0.99)
+    f = ModelEKF(model, [1.0], [[0.1]], 0.02)
+    j = 0
+    for k in range(t.size):
+        if k:
+            f.predict(u[k - 1], dt=t[k] - t[k - 1])
+        while j < meas.t.size and meas.t[j] <= t[k] + 1e-9:
+            f.update_sensor(sensor, meas.z[j], gate_probability=0.99)
+            j += 1
+        np.testing.assert_allclose(run.x[k], f.estimate, rtol=0, atol=1e-12)
