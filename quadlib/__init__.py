@@ -5,7 +5,19 @@ quaternions scalar first, noise given as standard deviations, every random
 function takes a ``numpy.random.Generator``.
 """
 
-from . import averaging, data, histogram, metrics, models, plotting, simulate, trajectories, validation
+from . import (
+    averaging,
+    data,
+    histogram,
+    metrics,
+    models,
+    montecarlo,
+    plotting,
+    reference,
+    simulate,
+    trajectories,
+    validation,
+)
 from .display import show_source
 from .filters import Innovation, LinearKF, ModelEKF, ModelUKF
 from .model import Model, Sensor
@@ -15,6 +27,6 @@ __version__ = "0.1.0"
 
 __all__ = [
     "FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF", "ModelUKF",
-    "Sensor", "SensorTrace", "averaging", "data", "histogram", "metrics", "models", "plotting",
-    "run_filter", "show_source", "simulate", "trajectories", "validation",
+    "Sensor", "SensorTrace", "averaging", "data", "histogram", "metrics", "models", "montecarlo",
+    "plotting", "reference", "run_filter", "show_source", "simulate", "trajectories", "validation",
 ]

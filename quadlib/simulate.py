@@ -9,17 +9,10 @@ import numpy as np
 
 from .model import Model, Sensor
 from .replay import Measurements
-from .validation import as_finite_array, as_positive, as_probability, as_times
+from .validation import as_finite_array, as_positive, as_probability, as_rng, as_times
 
 __all__ = ["sample_sensor", "simulate_model", "with_dropouts"]
 
-
-def _check_rng(rng) -> np.random.Generator:
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(
-            f"rng: expected a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
-        )
-    return rng
 
 
 def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> np.ndarray:
@@ -39,7 +32,7 @@ def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> n
     -------
     (N, n) ndarray
     """
-    rng = _check_rng(rng)
+    rng = as_rng(rng)
     t = as_times("t", t)
     N = t.shape[0]
     u = model.check_inputs(u, N)
@@ -71,7 +64,7 @@ def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Me
     -------
     Measurements
     """
-    rng = _check_rng(rng)
+    rng = as_rng(rng)
     t = as_finite_array("t", t, ndim=1)
     x = as_finite_array("x", x, ndim=2)
     if x.shape[0] != t.shape[0]:
@@ -90,7 +83,7 @@ def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Me
 
 def with_dropouts(measurements: Measurements, rng, probability: float) -> Measurements:
     """Copy of ``measurements`` with each sample independently missing (NaN) with ``probability``."""
-    rng = _check_rng(rng)
+    rng = as_rng(rng)
     p = as_probability("probability", probability, open_interval=False)
     z = measurements.z.copy()
     z[rng.random(z.shape[0]) < p] = np.nan

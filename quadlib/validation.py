@@ -17,6 +17,7 @@ __all__ = [
     "as_matrix",
     "as_positive",
     "as_probability",
+    "as_rng",
     "as_times",
     "as_vector",
 ]
@@ -149,3 +150,12 @@ def as_times(name: str, value) -> np.ndarray:
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{name}: expected strictly increasing times (every dt > 0)")
     return t
+
+
+def as_rng(rng) -> np.random.Generator:
+    """Return ``rng`` if it is a ``numpy.random.Generator``, else raise ``TypeError``."""
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(
+            f"rng: expected a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
+        )
+    return rng

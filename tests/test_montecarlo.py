@@ -1,0 +1,41 @@
+import numpy as np
+import pytest
+
+from quadlib import Sensor
+from quadlib.models.rangefinder import tilted_range_sensor
+from quadlib.montecarlo import importance_posterior, propagate_samples
+from quadlib.reference import ekf_update
+
+
+def test_propagate_samples_matches_closed_form_moments():
+    # E[z / cos φ] with z, φ independent: E[z] E[1/cos φ]; for φ ~ N(0, s²) use a series to order s⁴
+    s = 0.1
+    moments, y = propagate_samples(tilted_range_sensor(0.01).h, [2.0, 0.0], np.diag([0.05**2, s**2]),
+                                   400_000, np.random.default_rng(0))
+    expected = 2.0 * (1 + s**2 / 2 + 5 * s**4 / 8)
+    assert y.shape == (400_000, 1)
+    assert moments.mean[0] == pytest.approx(expected, abs=3 * np.sqrt(moments.cov[0, 0] / 400_000))
+
+
+def test_importance_posterior_equals_the_kalman_update_for_a_linear_sensor():
+    sensor = Sensor("height", ("z",), h=lambda x: np.asarray(x)[..., 1:2], H=lambda x: np.array([[0.0, 1.0]]),
+                    R=[[0.2**2]])  # quad1d's range sensor, written to accept stacked states
+    mu, P, z = np.array([0.5, 1.0]), np.array([[0.3, 0.1], [0.1, 0.4]]), np.array([1.6])
+    post = importance_posterior(sensor, mu, P, z, 400_000, np.random.default_rng(1))
+    kf_mean, kf_cov = ekf_update(sensor, mu, P, z, joseph=True)
+    np.testing.assert_allclose(post.mean, kf_mean, atol=5e-3)
+    np.testing.assert_allclose(post.cov, kf_cov, atol=5e-3)
+
+
+def test_tilted_range_jacobian_matches_finite_differences():
+    sensor, x, eps = tilted_range_sensor(0.01), np.array([2.0, 0.4]), 1e-6
+    fd = np.array([(sensor.h(x + eps * e) - sensor.h(x - eps * e))[0] / (2 * eps) for e in np.eye(2)])
+    np.testing.assert_allclose(sensor.H(x)[0], fd, rtol=1e-7)
+    assert sensor.H(np.array([2.0, 0.0]))[0, 1] == 0.0  # flat in roll at zero roll
+
+
+def test_bad_arguments_are_named():
+    with pytest.raises(ValueError, match="n_samples: expected an int >= 2, got 1"):
+        propagate_samples(np.sin, [0.0], [[1.0]], 1, np.random.default_rng(0))
+    with pytest.raises(TypeError, match="rng: expected a numpy.random.Generator"):
+        propagate_samples(np.sin, [0.0], [[1.0]], 10, 42)
