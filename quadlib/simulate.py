@@ -11,7 +11,7 @@ from .model import Model, Sensor
 from .replay import Measurements
 from .validation import as_finite_array, as_positive, as_probability, as_rng, as_times
 
-__all__ = ["sample_sensor", "simulate_model", "with_dropouts"]
+__all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
 
 
 
@@ -88,3 +88,29 @@ def with_dropouts(measurements: Measurements, rng, probability: float) -> Measur
     z = measurements.z.copy()
     z[rng.random(z.shape[0]) < p] = np.nan
     return Measurements(measurements.sensor, measurements.t, z)
+
+
+def with_outliers(measurements: Measurements, rng, probability: float,
+                  noise_scale: float = 10.0) -> tuple[Measurements, np.ndarray]:
+    """Copy of ``measurements`` where each sample is, with ``probability``, an outlier.
+
+    An outlier's noise has ``noise_scale`` times the sensor's standard deviation: extra noise
+    ``N(0, (noise_scale² - 1) R)`` is added to the sample (a 10× noise spike by default).
+    Missing samples stay missing.
+
+    Returns
+    -------
+    (Measurements, (K,) bool ndarray)
+        The corrupted samples and which of them are outliers.
+    """
+    rng = as_rng(rng)
+    p = as_probability("probability", probability, open_interval=False)
+    scale = as_positive("noise_scale", noise_scale)
+    if scale < 1:
+        raise ValueError(f"noise_scale: expected >= 1, got {scale}")
+    z = measurements.z.copy()
+    K, k = z.shape
+    outlier = (rng.random(K) < p) & ~np.isnan(z).any(axis=1)
+    L = np.linalg.cholesky(measurements.sensor.R)
+    z[outlier] += np.sqrt(scale**2 - 1.0) * rng.standard_normal((int(outlier.sum()), k)) @ L.T
+    return Measurements(measurements.sensor, measurements.t, z), outlier

@@ -2,6 +2,7 @@ import numpy as np
 import pytest
 
 from quadlib import Sensor
+from quadlib.models.quad1d import quad1d_range_sensor
 from quadlib.models.rangefinder import tilted_range_sensor
 from quadlib.montecarlo import importance_posterior, propagate_samples
 from quadlib.reference import ekf_update
@@ -39,3 +40,36 @@ def test_bad_arguments_are_named():
         propagate_samples(np.sin, [0.0], [[1.0]], 1, np.random.default_rng(0))
     with pytest.raises(TypeError, match="rng: expected a numpy.random.Generator"):
         propagate_samples(np.sin, [0.0], [[1.0]], 10, 42)
+
+
+def test_run_monte_carlo_tuned_kf_is_consistent_and_mistuned_is_not():
+    from quadlib import LinearKF
+    from quadlib.metrics import chi2_interval
+    from quadlib.models.quad1d import quad1d_model
+    from quadlib.montecarlo import run_monte_carlo
+
+    model, sensor = quad1d_model(0.3), quad1d_range_sensor(0.1, rate_hz=10)
+    t = np.arange(0.0, 5.0 + 1e-9, 0.02)
+    u = np.zeros((t.size, 1))
+    filters = {"tuned": lambda x0, P0: LinearKF(model, x0, P0, 0.02),
+               "Q/100": lambda x0, P0: LinearKF(quad1d_model(0.03), x0, P0, 0.02)}
+    runs = run_monte_carlo(filters, model, [sensor], [0.0, 1.0], np.diag([0.25, 0.25]), t, u, 50,
+                           np.random.default_rng(5))
+    low, high = chi2_interval(2, 50)
+    tuned, small_q = runs["tuned"], runs["Q/100"]
+    assert tuned.errors.shape == (50, t.size, 2) and tuned.nis["range"].shape == (50, 51)
+    assert low < tuned.nees.mean() < high
+    assert small_q.nees.mean() > 3 * high
+    assert tuned.rejected["range"].sum() == 0
+
+
+def test_run_monte_carlo_names_bad_arguments():
+    from quadlib.models.quad1d import quad1d_model
+    from quadlib.montecarlo import run_monte_carlo
+
+    model = quad1d_model(0.3)
+    with pytest.raises(ValueError, match="n_runs: expected an int >= 1, got 0"):
+        run_monte_carlo({"kf": None}, model, [], [0.0, 1.0], np.eye(2), [0.0, 0.1], None, 0, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="x0: expected shape \\(2,\\), got \\(3,\\)"):
+        run_monte_carlo({"kf": None}, model, [], [0.0, 1.0, 2.0], np.eye(2), [0.0, 0.1], None, 1,
+                        np.random.default_rng(0))
