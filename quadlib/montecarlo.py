@@ -95,7 +95,8 @@ class MonteCarloRuns:
 
 
 def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequence[Sensor], x0, P0, t, u,
-                    n_runs: int, rng, *, corrupt: Callable | None = None,
+                    n_runs: int, rng, *, assumed_sensors: Mapping[str, Sequence[Sensor]] | None = None,
+                    corrupt: Callable | None = None,
                     gate_probability: float | None = None) -> dict[str, MonteCarloRuns]:
     """Run every filter on the same ``n_runs`` simulated flights.
 
@@ -119,6 +120,9 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         Inputs, the same in every run.
     n_runs : int
     rng : numpy.random.Generator
+    assumed_sensors : mapping of filter name -> sequence of Sensor, optional
+        The sensor models a filter updates with, one per truth sensor and in the same order
+        (for example with a mis-tuned ``R``); filters not named use the truth sensors.
     corrupt : callable ``(list of Measurements, rng) -> list of Measurements``, optional
         Applied to each run's samples (dropouts, outliers) before the filters see them.
     gate_probability : float, optional
@@ -135,6 +139,11 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         raise ValueError(f"n_runs: expected an int >= 1, got {n_runs!r}")
     if not filters:
         raise ValueError("filters: expected at least one filter factory, got none")
+    assumed_sensors = dict(assumed_sensors or {})
+    for name, assumed in assumed_sensors.items():
+        if name not in filters or len(assumed) != len(sensors):
+            raise ValueError(f"assumed_sensors[{name!r}]: expected {len(sensors)} sensors for a filter in "
+                             f"filters, got {len(assumed)}")
     collected = {name: ([], [], [], {}, {}) for name in filters}
     for _ in range(int(n_runs)):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
@@ -144,7 +153,10 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
             if not all(isinstance(m, Measurements) for m in samples):
                 raise TypeError("corrupt: expected it to return a list of Measurements")
         for name, make in filters.items():
-            run = run_filter(make(x0, P0), t, u, samples, gate_probability=gate_probability)
+            seen = samples
+            if name in assumed_sensors:
+                seen = [Measurements(s, m.t, m.z) for s, m in zip(assumed_sensors[name], samples, strict=True)]
+            run = run_filter(make(x0, P0), t, u, seen, gate_probability=gate_probability)
             errors, sigmas, nees_values, nis, rejected = collected[name]
             errors.append(run.x - truth)
             sigmas.append(run.sigma)

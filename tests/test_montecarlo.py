@@ -73,3 +73,21 @@ def test_run_monte_carlo_names_bad_arguments():
     with pytest.raises(ValueError, match="x0: expected shape \\(2,\\), got \\(3,\\)"):
         run_monte_carlo({"kf": None}, model, [], [0.0, 1.0, 2.0], np.eye(2), [0.0, 0.1], None, 1,
                         np.random.default_rng(0))
+
+
+def test_run_monte_carlo_assumed_sensors_change_only_the_filter_model():
+    from quadlib import LinearKF
+    from quadlib.models.quad1d import quad1d_model
+    from quadlib.montecarlo import run_monte_carlo
+
+    model, sensor = quad1d_model(0.3), quad1d_range_sensor(0.1, rate_hz=10)
+    t = np.arange(0.0, 3.0 + 1e-9, 0.02)
+    make = {"a": lambda x0, P0: LinearKF(model, x0, P0, 0.02), "b": lambda x0, P0: LinearKF(model, x0, P0, 0.02)}
+    runs = run_monte_carlo(make, model, [sensor], [0.0, 1.0], np.eye(2) * 0.1, t, np.zeros((t.size, 1)), 5,
+                           np.random.default_rng(1), assumed_sensors={"b": [quad1d_range_sensor(0.4)]})
+    # same flights and samples, different assumed R: the claimed σ and the NIS change
+    assert runs["b"].sigma[:, -1, 1].mean() > 1.5 * runs["a"].sigma[:, -1, 1].mean()
+    assert runs["b"].nis["range"].mean() < 0.2 * runs["a"].nis["range"].mean()
+    with pytest.raises(ValueError, match=r"assumed_sensors\['c'\]: expected 1 sensors"):
+        run_monte_carlo(make, model, [sensor], [0.0, 1.0], np.eye(2), t, np.zeros((t.size, 1)), 1,
+                        np.random.default_rng(1), assumed_sensors={"c": []})
