@@ -74,6 +74,7 @@ class MonteCarloRuns:
     Attributes
     ----------
     t : (N,) times [s]
+    truth : (M, N, n) the simulated true states (the same array for every filter of one call)
     errors : (M, N, n) estimate minus truth
     sigma : (M, N, n) the filter's standard deviations
     nees : (M, N) normalised estimation error squared
@@ -82,6 +83,7 @@ class MonteCarloRuns:
     """
 
     t: np.ndarray
+    truth: np.ndarray
     errors: np.ndarray
     sigma: np.ndarray
     nees: np.ndarray
@@ -145,8 +147,10 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
             raise ValueError(f"assumed_sensors[{name!r}]: expected {len(sensors)} sensors for a filter in "
                              f"filters, got {len(assumed)}")
     collected = {name: ([], [], [], {}, {}) for name in filters}
+    truths = []
     for _ in range(int(n_runs)):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
+        truths.append(truth)
         samples = [sample_sensor(s, t, truth, rng) for s in sensors]
         if corrupt is not None:
             samples = list(corrupt(samples, rng))
@@ -164,8 +168,8 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
             for sensor_name, trace in run.sensors.items():
                 nis.setdefault(sensor_name, []).append(trace.nis)
                 rejected.setdefault(sensor_name, []).append(int(trace.rejected.sum()))
-    t = np.asarray(t, dtype=float)
-    return {name: MonteCarloRuns(t=t, errors=np.array(e), sigma=np.array(s), nees=np.array(v),
+    t, truths = np.asarray(t, dtype=float), np.array(truths)
+    return {name: MonteCarloRuns(t=t, truth=truths, errors=np.array(e), sigma=np.array(s), nees=np.array(v),
                                  nis={k: np.array(x) for k, x in nis.items()},
                                  rejected={k: np.array(x) for k, x in rej.items()})
             for name, (e, s, v, nis, rej) in collected.items()}

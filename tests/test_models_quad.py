@@ -63,6 +63,9 @@ def test_quad2d_range_grows_with_roll_and_shrinks_near_the_wall():
     sensor = quad2d_range_sensor(0.05, wall_y_m=5.0)
     assert sensor.h(np.array([0.0, 0.0, 2.0]))[0] == pytest.approx(3.0)
     assert sensor.h(np.array([np.pi / 3, 0.0, 2.0]))[0] == pytest.approx(6.0)  # 3 / cos 60°
+    stack = np.array([[0.0, 0.0, 2.0], [np.pi / 3, 0.0, 2.0], [-np.pi / 3, 1.0, 4.0]])
+    np.testing.assert_allclose(sensor.h(stack), [3.0, 6.0, 2.0])  # vectorised over rows
+    assert sensor.h(stack[0]).shape == (1,)
     with pytest.raises(ValueError, match="lateral_accel: expected 'physics' or 'seed', got 'tan'"):
         quad2d_model(0.1, 0.01, "tan")
 

@@ -58,6 +58,10 @@ def test_run_monte_carlo_tuned_kf_is_consistent_and_mistuned_is_not():
     low, high = chi2_interval(2, 50)
     tuned, small_q = runs["tuned"], runs["Q/100"]
     assert tuned.errors.shape == (50, t.size, 2) and tuned.nis["range"].shape == (50, 51)
+    # both filters saw the same flights, and errors are estimates minus that truth
+    assert tuned.truth is small_q.truth and tuned.truth.shape == (50, t.size, 2)
+    assert np.ptp(tuned.truth[:, 0, 1]) > 0.5  # the initial truth is drawn from the prior
+    assert np.abs(tuned.errors - small_q.errors).max() > 0.01
     assert low < tuned.nees.mean() < high
     assert small_q.nees.mean() > 3 * high
     assert tuned.rejected["range"].sum() == 0

@@ -76,12 +76,16 @@ def quad2d_model(sigma_accel_m_s2: float, sigma_roll_rad: float, lateral_accel: 
 
 
 def quad2d_range_sensor(sigma_m: float, wall_y_m: float = 5.0, rate_hz: float | None = None) -> Sensor:
-    """Sideways range to the wall, ``r = (wall_y - y) / cos φ`` (eqs. 33, 35), noise σ [m]."""
+    """Sideways range to the wall, ``r = (wall_y - y) / cos φ`` (eqs. 33, 35), noise σ [m].
+
+    ``h`` also accepts an ``(m, 3)`` stack of states and returns ``(m,)`` ranges (for Monte Carlo).
+    """
     s = as_positive("sigma_m", sigma_m)
     wall = float(wall_y_m)
 
     def h(x):
-        return np.array([(wall - x[2]) / np.cos(x[0])])
+        x = np.asarray(x, dtype=float)
+        return np.atleast_1d((wall - x[..., 2]) / np.cos(x[..., 0]))
 
     def H(x):
         c = np.cos(x[0])
