@@ -57,7 +57,7 @@ def quad2d_geometry(phi: float, y: float, wall_y_m: float, arm_m: float = 0.3):
 
 
 def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_frames: int = 50,
-                   dpi: int = 60, arm_m: float = 0.3):
+                   dpi: int = 70, arm_m: float = 0.3):
     """Animate the 2D quadrotor seen from behind: body, range beam to the wall, estimate ±2σ.
 
     Parameters
@@ -93,18 +93,20 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
     wall = float(wall_y_m)
     frames = np.linspace(0, t.size - 1, int(n_frames)).round().astype(int)
 
-    fig, ax = plt.subplots(figsize=(6, 2.4), dpi=dpi, layout="constrained")
-    y_low = min(x_true[:, 2].min(), wall) - 1.0
-    ax.set_xlim(y_low, wall + 0.5)
-    ax.set_ylim(-1.5, 1.0)
+    fig, ax = plt.subplots(figsize=(6, 2.2), dpi=dpi, layout="constrained")
+    ax.set_xlim(min(x_true[:, 2].min(), wall) - 0.8, wall + 0.3)
+    ax.set_ylim(-1.0, 0.6)
     ax.set_aspect("equal")
     ax.axvline(wall, color="0.3", lw=4)
     ax.set_xlabel("y [m]  (wall at right)")
     ax.set_yticks([])
-    beam, = ax.plot([], [], color="C3", lw=1, ls="--")
-    body, = ax.plot([], [], color="k", lw=3, solid_capstyle="round")
-    est, = ax.plot([], [], color="C0", lw=2, marker="|", ms=10)
-    label = ax.text(0.01, 0.95, "", transform=ax.transAxes, va="top", fontsize="small")
+    beam, = ax.plot([], [], color="C3", lw=1, ls="--", label="range beam")
+    body, = ax.plot([], [], color="k", lw=3, solid_capstyle="round", label="drone (truth)")
+    est, = ax.plot([], [], color="C0", lw=3, label="estimate of y ± 2σ")
+    if estimate is None:
+        est.set_label("_")
+    ax.legend(loc="lower left", fontsize="x-small", ncol=3, frameon=False)
+    label = ax.text(0.01, 0.97, "", transform=ax.transAxes, va="top", fontsize="small")
 
     def draw(k):
         body_yz, beam_yz, range_m = quad2d_geometry(x_true[k, 0], x_true[k, 2], wall, arm_m)
@@ -112,7 +114,7 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
         beam.set_data(*beam_yz)
         if estimate is not None:
             half = 2.0 * sigma[k, 2]
-            est.set_data([estimate[k, 2] - half, estimate[k, 2] + half], [-0.6, -0.6])
+            est.set_data([estimate[k, 2] - half, estimate[k, 2] + half], [-0.5, -0.5])
         label.set_text(f"t = {t[k]:4.1f} s   roll = {np.degrees(x_true[k, 0]):5.1f}°   range = {range_m:4.2f} m")
         return body, beam, est, label
 
