@@ -16,7 +16,7 @@ import numpy as np
 from .validation import as_finite_array
 
 __all__ = ["integrate_body_rate", "quat_canonical", "quat_conjugate", "quat_from_euler", "quat_from_rotvec",
-           "quat_multiply", "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler"]
+           "quat_multiply", "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
 
 
 def _quat(name: str, q) -> np.ndarray:
@@ -72,6 +72,17 @@ def quat_from_rotvec(v) -> np.ndarray:
     half_sinc = np.where(angle > 1e-8, np.sin(0.5 * angle) / np.where(angle > 1e-8, angle, 1.0),
                          0.5 - angle**2 / 48.0)
     return np.concatenate([np.cos(0.5 * angle), half_sinc * v], axis=-1)
+
+
+def quat_to_rotvec(q) -> np.ndarray:
+    """Rotation vector (axis × angle, angle in [0, π]) of unit ``q``; inverse of :func:`quat_from_rotvec`."""
+    q = quat_canonical(q)
+    v = q[..., 1:]
+    s = np.linalg.norm(v, axis=-1, keepdims=True)
+    angle = 2.0 * np.arctan2(s, q[..., :1])
+    # angle / sin(angle/2), with its Taylor series where the angle is tiny
+    scale = np.where(s > 1e-8, angle / np.where(s > 1e-8, s, 1.0), 2.0 + angle**2 / 12.0)
+    return scale * v
 
 
 def quat_to_dcm(q) -> np.ndarray:

@@ -14,6 +14,7 @@ from quadlib.quaternion import (
     quat_rotate,
     quat_to_dcm,
     quat_to_euler,
+    quat_to_rotvec,
 )
 from quadlib.rotations import (
     accel_tilt,
@@ -130,6 +131,8 @@ def test_quaternions_match_scipy_on_random_and_edge_inputs():
     rv = np.vstack([rng.normal(size=(N, 3)), [[0.0, 0.0, 0.0], [1e-10, 0, 0], [np.pi, 0, 0]]])
     np.testing.assert_allclose(quat_canonical(quat_from_rotvec(rv)),
                                quat_canonical(Rotation.from_rotvec(rv).as_quat(scalar_first=True)), atol=1e-12)
+    np.testing.assert_allclose(quat_to_rotvec(quat_from_rotvec(rv)), Rotation.from_rotvec(rv).as_rotvec(), atol=1e-10)
+    np.testing.assert_allclose(quat_to_rotvec(-q1), Rotation.from_quat(q1, scalar_first=True).as_rotvec(), atol=1e-10)
     # q and -q are one rotation
     np.testing.assert_allclose(quat_to_dcm(-q1), quat_to_dcm(q1), atol=1e-15)
     with pytest.raises(ValueError, match="q: expected non-zero quaternions"):
