@@ -42,7 +42,7 @@ def test_truth_is_self_consistent(flight):
     np.testing.assert_allclose(quat_canonical(q), quat_canonical(flight.q_nb[-1]), atol=1e-8)
     # velocity and acceleration are the derivatives of position
     np.testing.assert_allclose(np.gradient(flight.pos, flight.dt, axis=0)[1:-1], flight.vel[1:-1], atol=1e-3)
-    np.testing.assert_allclose(np.gradient(flight.vel, flight.dt, axis=0)[1:-1], flight.acc[1:-1], atol=0.03)  # jerk jumps at segment ends
+    np.testing.assert_allclose(np.gradient(flight.vel, flight.dt, axis=0)[1:-1], flight.acc[1:-1], atol=0.03)
 
 
 def test_square_course_returns_home_and_its_yaw_crosses_pi():
