@@ -17,7 +17,13 @@ __all__ = ["accel_tilt", "dcm_dyaw", "dcm_to_euler", "euler_rate_matrix", "euler
 
 
 def _angles(*named):
-    return [as_finite_array(name, value) for name, value in named]
+    out = []
+    for name, value in named:
+        a = np.asarray(value, dtype=float)
+        if not np.isfinite(a).all():
+            as_finite_array(name, a)  # raises, naming the argument
+        out.append(a)
+    return out
 
 
 def wrap_angle(a) -> np.ndarray:
@@ -35,13 +41,13 @@ def euler_to_dcm(roll, pitch, yaw) -> np.ndarray:
 
     Source: Tellex et al. §7.2, eq. (48) (their ``R_bg``).
     """
-    roll, pitch, yaw = np.broadcast_arrays(*_angles(("roll", roll), ("pitch", pitch), ("yaw", yaw)))
+    roll, pitch, yaw = _angles(("roll", roll), ("pitch", pitch), ("yaw", yaw))
     cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
-    return np.stack([
-        np.stack([cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy], axis=-1),
-        np.stack([cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy], axis=-1),
-        np.stack([-sp, cp * sr, cp * cr], axis=-1),
-    ], axis=-2)
+    R = np.empty(np.broadcast_shapes(roll.shape, pitch.shape, yaw.shape) + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy
+    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy
+    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = -sp, cp * sr, cp * cr
+    return R
 
 
 def dcm_dyaw(roll, pitch, yaw) -> np.ndarray:
@@ -51,7 +57,9 @@ def dcm_dyaw(roll, pitch, yaw) -> np.ndarray:
     """
     R = euler_to_dcm(roll, pitch, yaw)
     # R = R_z(ψ) R', and dR_z/dψ = [e_z]× R_z, so ∂R/∂ψ = [e_z]× R: rows (−R₁, R₀, 0)
-    return np.stack([-R[..., 1, :], R[..., 0, :], np.zeros_like(R[..., 0, :])], axis=-2)
+    dR = np.zeros_like(R)
+    dR[..., 0, :], dR[..., 1, :] = -R[..., 1, :], R[..., 0, :]
+    return dR
 
 
 def dcm_to_euler(R) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
