@@ -62,7 +62,7 @@ def quad3d_model(sigma_accel_m_s2, sigma_yaw_rate_rad_s: float, gravity: str = "
     def G(x, u, dt):
         J = np.eye(7)
         J[0:3, 3:6] = dt * np.eye(3)
-        J[3:6, YAW] = dcm_dyaw(u[4], u[5], x[YAW]) @ u[:3] * dt  # eq. (51)
+        J[3:6, YAW] = dcm_dyaw(u[4], u[5], x[YAW]) @ (u[:3] * dt)  # eq. (51)
         return J
 
     def Q(dt):
