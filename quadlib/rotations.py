@@ -43,9 +43,7 @@ def euler_to_dcm(roll, pitch, yaw) -> np.ndarray:
     """
     roll, pitch, yaw = _angles(("roll", roll), ("pitch", pitch), ("yaw", yaw))
     cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
-    shape = roll.shape if roll.shape == pitch.shape == yaw.shape else np.broadcast_shapes(roll.shape, pitch.shape,
-                                                                                           yaw.shape)
-    R = np.empty(shape + (3, 3))
+    R = np.empty(np.broadcast_shapes(roll.shape, pitch.shape, yaw.shape) + (3, 3))
     R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy
     R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy
     R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = -sp, cp * sr, cp * cr
