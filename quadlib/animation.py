@@ -1,8 +1,10 @@
 """Animations for the book: the 2D quadrotor and its range beam, as deterministic HTML.
 
 ``matplotlib``'s ``Animation.to_jshtml`` names its HTML elements with a random id, so the same
-animation renders to different HTML on every run. :func:`animation_html` replaces that id by a
-fixed one; with the frames drawn at a fixed size and dpi the output is then the same on every run.
+animation renders to different HTML on every run, and it styles its buttons with icons loaded
+from a CDN, which an offline book cannot reach. :func:`animation_html` replaces the id by a fixed
+one and the icons by plain characters; with the frames drawn at a fixed size and dpi the output
+is then the same on every run, and needs no network.
 """
 
 from __future__ import annotations
@@ -19,6 +21,10 @@ __all__ = ["animate_quad2d", "animation_html", "quad2d_geometry"]
 
 _HTML_ID = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _RANDOM_ID = re.compile(r"_anim_img([0-9a-f]{32})")
+_ICON_CSS = re.compile(r'<link rel="stylesheet"\s*href="https?://[^"]*font-awesome[^"]*">\s*')
+_ICONS = {"fa fa-minus": "−", "fa fa-plus": "+", "fa fa-fast-backward": "⏮", "fa fa-fast-forward": "⏭",
+          "fa fa-step-backward": "◂", "fa fa-step-forward": "▸", "fa fa-play fa-flip-horizontal": "◀",
+          "fa fa-play": "▶", "fa fa-pause": "⏸"}
 
 
 def animation_html(fig, anim: FuncAnimation, html_id: str):
@@ -36,7 +42,10 @@ def animation_html(fig, anim: FuncAnimation, html_id: str):
     found = _RANDOM_ID.search(html)
     if found is None:
         raise RuntimeError("animation_html: matplotlib's player no longer names its image '_anim_img<id>'")
-    return HTML(html.replace(found.group(1), html_id))
+    html = _ICON_CSS.sub("", html.replace(found.group(1), html_id))
+    for icon, text in _ICONS.items():
+        html = html.replace(f'<i class="{icon}"></i>', text)
+    return HTML(html)
 
 
 def quad2d_geometry(phi: float, y: float, wall_y_m: float, arm_m: float = 0.3):

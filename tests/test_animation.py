@@ -22,6 +22,8 @@ def test_quad2d_animation_is_deterministic_html_with_the_given_id():
     assert pages[0] == pages[1]
     assert 'id="_anim_imgquad2d_test"' in pages[0]
     assert pages[0].count("data:image/png;base64") == 4
+    assert "http" not in pages[0] and 'class="fa' not in pages[0]  # offline: no CDN icons
+    assert "▶" in pages[0] and "⏸" in pages[0]
 
 
 def test_quad2d_geometry_beam_reaches_the_wall_along_the_tilted_body():
