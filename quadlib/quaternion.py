@@ -15,8 +15,9 @@ import numpy as np
 
 from .validation import as_finite_array
 
-__all__ = ["integrate_body_rate", "quat_canonical", "quat_conjugate", "quat_from_euler", "quat_from_rotvec",
-           "quat_multiply", "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
+__all__ = ["integrate_body_rate", "integrate_body_rate_linear", "quat_canonical", "quat_conjugate", "quat_from_dcm",
+           "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize", "quat_rotate", "quat_to_dcm",
+           "quat_to_euler", "quat_to_rotvec"]
 
 
 def _quat(name: str, q) -> np.ndarray:
@@ -95,6 +96,30 @@ def quat_to_dcm(q) -> np.ndarray:
     ], axis=-2)
 
 
+def quat_from_dcm(R) -> np.ndarray:
+    """Unit quaternion (``w >= 0``) of rotation matrices ``(..., 3, 3)``.
+
+    Uses the largest of ``w, x, y, z`` to divide by (Shepperd's method), so it is accurate for
+    every rotation, including 180° turns where ``w = 0``.
+    """
+    R = as_finite_array("R", R)
+    if R.ndim < 2 or R.shape[-2:] != (3, 3):
+        raise ValueError(f"R: expected shape (..., 3, 3), got {R.shape}")
+    r = R.reshape(-1, 3, 3)
+    tr = np.trace(r, axis1=1, axis2=2)
+    # 4 w², 4 x², 4 y², 4 z², each from the trace and one diagonal element
+    squares = np.column_stack([1 + tr, 1 + 2 * r[:, 0, 0] - tr, 1 + 2 * r[:, 1, 1] - tr, 1 + 2 * r[:, 2, 2] - tr])
+    big = np.argmax(squares, axis=1)
+    # each row: the four products 4·(largest)·(component), from the off-diagonal sums and differences
+    w4 = np.column_stack([squares[:, 0], r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]])
+    x4 = np.column_stack([r[:, 2, 1] - r[:, 1, 2], squares[:, 1], r[:, 0, 1] + r[:, 1, 0], r[:, 0, 2] + r[:, 2, 0]])
+    y4 = np.column_stack([r[:, 0, 2] - r[:, 2, 0], r[:, 0, 1] + r[:, 1, 0], squares[:, 2], r[:, 1, 2] + r[:, 2, 1]])
+    z4 = np.column_stack([r[:, 1, 0] - r[:, 0, 1], r[:, 0, 2] + r[:, 2, 0], r[:, 1, 2] + r[:, 2, 1], squares[:, 3]])
+    rows = np.stack([w4, x4, y4, z4], axis=1)[np.arange(len(r)), big]
+    q = rows / (2.0 * np.sqrt(squares[np.arange(len(r)), big]))[:, None]
+    return quat_canonical(quat_normalize(q)).reshape(R.shape[:-2] + (4,))
+
+
 def quat_rotate(q, v) -> np.ndarray:
     """Rotate vectors: ``R(q) v`` (Kesten eq. 1.11, ``q ⊗ [0, v] ⊗ q*``)."""
     return np.einsum("...ij,...j->...i", quat_to_dcm(q), _vec3("v", v))
@@ -126,12 +151,22 @@ def quat_to_euler(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return roll, np.arcsin(sin_pitch), yaw
 
 
+def integrate_body_rate_linear(q, omega_b, dt: float) -> np.ndarray:
+    """Kesten eq. (2.8): ``q ⊗ [1, ½ ω Δt]``, the first-order version of eq. (2.7).
+
+    Not a unit quaternion: its norm grows by ``√(1 + |ω Δt|²/4)`` per step, so filters using it
+    renormalise.
+    """
+    omega = _vec3("omega_b", omega_b) * (0.5 * float(dt))
+    return quat_multiply(q, np.concatenate([np.ones(omega.shape[:-1] + (1,)), omega], axis=-1))
+
+
 def integrate_body_rate(q, omega_b, dt: float) -> np.ndarray:
     """Attitude after turning at constant body rate ``omega_b`` [rad/s] for ``dt`` [s].
 
     .. math:: q_{k+1} = q_k \\otimes \\exp\\left(\\tfrac12 \\omega_b \\Delta t\\right)
 
-    Body rates multiply on the *right* of ``q_nb``. Differs from the source: Tellex eq. (43)
+    Kesten eq. (2.7). Body rates multiply on the *right* of ``q_nb``. Differs from the source: Tellex eq. (43)
     multiplies on the left, as in Diebel's convention where the quaternion maps global to body.
     """
     return quat_multiply(q, quat_from_rotvec(_vec3("omega_b", omega_b) * float(dt)))
