@@ -148,7 +148,8 @@ def quat_to_euler(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     locked = np.abs(sin_pitch) > 1.0 - 1e-12
     roll = np.where(locked, 0.0, roll)
     yaw = np.where(locked, -np.sign(sin_pitch) * 2.0 * np.arctan2(x, w), yaw)
-    return roll, np.arcsin(sin_pitch), yaw
+    pitch = np.where(locked, np.sign(sin_pitch) * np.pi / 2, np.arcsin(sin_pitch))
+    return roll, pitch, yaw
 
 
 def integrate_body_rate_linear(q, omega_b, dt: float) -> np.ndarray:
