@@ -3,7 +3,8 @@
 Usage: ``python benchmarks/attitude_filters.py [seconds]`` (default 120 s of motion, about five
 minutes of computing). Prints the mean squared attitude error for magnetometer periods
 ``τ_m = k τ_a``, k = 1…5, with the thesis's process noise (τ σ²_ω) and with the corrected one
-((σ_ω τ)², erratum E15), and each filter's cost per step, measured in the same run.
+((σ_ω τ)², erratum E15), the largest quaternion norm error, and each filter's cost per step,
+measured in the same run.
 Chapter 10 runs the same experiment on a shorter motion to stay within its time budget.
 """
 
@@ -24,6 +25,7 @@ def main(seconds: float = 120.0, seed: int = 10) -> None:
     t, q_true, omega = random_rotation(seconds, base, np.random.default_rng(seed))
     settled = t > 2.0
     cost = {name: [0.0, 0] for name in FILTERS}
+    worst_norm = dict.fromkeys(FILTERS, 0.0)
     for label, thesis in (("thesis's process noise τσ²_ω", True), ("corrected process noise (σ_ω τ)²", False)):
         noise = AttitudeNoise(thesis_process_noise=thesis)
         print(f"\nmean squared attitude error [deg²], {seconds:g} s at 250 Hz, {label}")
@@ -36,9 +38,12 @@ def main(seconds: float = 120.0, seed: int = 10) -> None:
                 est = run_attitude_filter(cls(noise), g, a, m)
                 cost[name][0] += time.perf_counter() - start
                 cost[name][1] += len(t)
+                worst_norm[name] = max(worst_norm[name], np.abs(np.linalg.norm(est, axis=1) - 1.0).max())
                 err = np.degrees(np.linalg.norm(quat_to_rotvec(quat_multiply(quat_conjugate(q_true), est)), axis=1))
                 row.append(np.mean(err[settled] ** 2))
             print(f"{k:2d} | " + " | ".join(f"{v:8.5f}" for v in row))
+    print(f"\nlargest |‖q‖ − 1| over all {len(t)}-step runs: " + ", ".join(
+        f"{name} {v:.1e}" for name, v in worst_norm.items()))
     fastest = min(c / n for c, n in cost.values())
     print("\ncost per step: " + ", ".join(f"{name} {1e6 * c / n:.0f} µs ({c / n / fastest:.1f}×)"
                                           for name, (c, n) in cost.items()))
