@@ -85,11 +85,11 @@ def mag_model(x, declination_rad: float, inclination_rad: float = 0.0) -> np.nda
 def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
     """``∂(mag_model)/∂x``, ``(3, 7)``, exact: the model is a quadratic polynomial in ``q``, so a
     central difference with unit steps has no truncation error."""
-    x = np.asarray(x, dtype=float)
+    q = np.asarray(x, dtype=float)[:4]
+    steps = np.vstack([q + np.eye(4), q - np.eye(4)])  # the eight points, one rotation-matrix call
+    fields = np.einsum("nji,j->ni", quat_to_dcm(steps), _mag_reference(declination_rad, inclination_rad))
     C = np.zeros((3, 7))
-    C[:, :4] = np.column_stack([(mag_model(np.r_[x[:4] + e, x[4:]], declination_rad, inclination_rad)
-                                 - mag_model(np.r_[x[:4] - e, x[4:]], declination_rad, inclination_rad)) / 2.0
-                                for e in np.eye(4)])
+    C[:, :4] = ((fields[:4] - fields[4:]) / 2.0).T
     return C
 
 
