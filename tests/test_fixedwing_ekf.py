@@ -76,3 +76,26 @@ def test_the_documents_horizontal_field_model_fails_with_a_dipping_field():
 def test_initial_state_needs_samples():
     with pytest.raises(ValueError, match="n_still: expected an int >= 1, got 0"):
         initial_state(SAMPLES, 0)
+
+
+def test_error_state_ukf_tracks_the_attitude_with_plain_vector_means():
+    from quadlib.fixedwing_ukf import ErrorStateUKF
+
+    flight = fixedwing_flight(rate_hz=25.0)
+    samples = fixedwing_samples(flight, NOISE, np.random.default_rng(13))
+    n = int(25.0 / flight.dt)  # the first 25 s: level flight and the right turn
+    x0 = initial_state(samples, 50)
+    ukf = ErrorStateUKF(x0[:4], x0[4:], 0.05, 0.02, NOISE.gyro_sigma_rad_s, 1e-4, flight.dt)
+    states = np.empty((n, 7))
+    for k in range(n):
+        if k:
+            ukf.predict(samples.gyro[k - 1], flight.dt)
+        ukf.update(samples.accel[k], samples.mag[k], omega=samples.gyro[k], airspeed_m_s=samples.airspeed[k],
+                   accel_sigma=NOISE.accel_sigma_m_s2, mag_sigma=0.01, declination_rad=NOISE.declination_rad,
+                   inclination_rad=NOISE.inclination_rad)
+        states[k] = ukf.state
+        assert np.allclose(ukf.ukf.estimate[:3], 0.0)  # the mean rotation is folded into q_ref every step
+    err = np.degrees(np.column_stack([wrap_angle(a - b) for a, b in zip(quat_to_euler(states[:, :4]),
+                                                                        flight.euler[:n].T, strict=True)]))
+    assert np.sqrt(np.mean(err[flight.t[:n] > 5.0] ** 2, axis=0)).max() < 3.0
+    assert np.abs(np.linalg.norm(states[:, :4], axis=1) - 1).max() < 1e-12
