@@ -37,12 +37,14 @@ def _vec3(name: str, v) -> np.ndarray:
 def quat_multiply(p, q) -> np.ndarray:
     """Hamilton product ``p ⊗ q`` (Kesten eq. 1.4): first rotate by ``q``, then by ``p``."""
     p, q = _quat("p", p), _quat("q", q)
-    pw, px, py, pz = np.moveaxis(p, -1, 0)
-    qw, qx, qy, qz = np.moveaxis(q, -1, 0)
-    return np.stack([pw * qw - px * qx - py * qy - pz * qz,
-                     pw * qx + px * qw + py * qz - pz * qy,
-                     pw * qy - px * qz + py * qw + pz * qx,
-                     pw * qz + px * qy - py * qx + pz * qw], axis=-1)
+    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(np.broadcast_shapes(p.shape, q.shape))
+    out[..., 0] = pw * qw - px * qx - py * qy - pz * qz
+    out[..., 1] = pw * qx + px * qw + py * qz - pz * qy
+    out[..., 2] = pw * qy - px * qz + py * qw + pz * qx
+    out[..., 3] = pw * qz + px * qy - py * qx + pz * qw
+    return out
 
 
 def quat_conjugate(q) -> np.ndarray:
@@ -68,11 +70,13 @@ def quat_canonical(q) -> np.ndarray:
 def quat_from_rotvec(v) -> np.ndarray:
     """Quaternion of the rotation by angle ``|v|`` about ``v / |v|`` (Kesten eq. 1.8)."""
     v = _vec3("v", v)
-    angle = np.linalg.norm(v, axis=-1, keepdims=True)
+    angle = np.sqrt(np.sum(v * v, axis=-1))
     # sin(a/2)/a, with its Taylor series where a is tiny
-    half_sinc = np.where(angle > 1e-8, np.sin(0.5 * angle) / np.where(angle > 1e-8, angle, 1.0),
-                         0.5 - angle**2 / 48.0)
-    return np.concatenate([np.cos(0.5 * angle), half_sinc * v], axis=-1)
+    half_sinc = np.where(angle > 1e-8, np.sin(0.5 * angle) / np.where(angle > 1e-8, angle, 1.0), 0.5 - angle**2 / 48.0)
+    out = np.empty(v.shape[:-1] + (4,))
+    out[..., 0] = np.cos(0.5 * angle)
+    out[..., 1:] = half_sinc[..., None] * v
+    return out
 
 
 def quat_to_rotvec(q) -> np.ndarray:
@@ -88,12 +92,13 @@ def quat_to_rotvec(q) -> np.ndarray:
 
 def quat_to_dcm(q) -> np.ndarray:
     """Rotation matrix ``R(q)``, ``(..., 3, 3)``, for unit ``q`` (``v' = R v``)."""
-    w, x, y, z = np.moveaxis(_quat("q", q), -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
-    ], axis=-2)
+    q = _quat("q", q)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    R = np.empty(q.shape[:-1] + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
+    R[..., 1, 0], R[..., 1, 1], R[..., 1, 2] = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
+    R[..., 2, 0], R[..., 2, 1], R[..., 2, 2] = 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)
+    return R
 
 
 def quat_from_dcm(R) -> np.ndarray:
