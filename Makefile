@@ -43,6 +43,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/wrapper_overhead.py
 	$(BIN)/python benchmarks/quad3d_filters.py
 	$(BIN)/python benchmarks/attitude_filters.py
+	$(BIN)/python benchmarks/fixedwing_filters.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py
