@@ -78,11 +78,17 @@ def run_fixedwing_ekf(ekf: ModelEKF, dt: float, samples: FixedWingSamples, mag_s
     ``prefilter_hz`` low-passes the accelerometer and magnetometer first (eqs. 7–8). NaN rows in
     ``samples.mag`` or NaN entries in ``samples.airspeed`` switch the measurement model that step.
     """
+    if not isinstance(samples, FixedWingSamples):
+        raise TypeError(f"samples: expected FixedWingSamples, got {type(samples).__name__}")
+    n = len(samples.gyro)
+    shapes = [np.shape(a) for a in samples]
+    if shapes != [(n, 3), (n, 3), (n, 3), (n,)]:
+        raise ValueError(f"samples: expected gyro, accel, mag of shape (N, 3) and airspeed of shape (N,), got {shapes}")
+    dt = as_positive("dt", dt)
     accel, mag = samples.accel, samples.mag
     if prefilter_hz is not None:
         accel, mag = lowpass2(accel, prefilter_hz, dt), lowpass2(np.nan_to_num(mag), prefilter_hz, dt)
         mag[np.isnan(samples.mag).any(axis=1)] = np.nan
-    n = len(samples.gyro)
     xs, sigmas = np.empty((n, 7)), np.empty((n, 7))
     for k in range(n):
         if k:

@@ -73,9 +73,18 @@ def test_the_documents_horizontal_field_model_fails_with_a_dipping_field():
     assert np.sqrt(np.mean(err[FLIGHT.t > 5] ** 2, axis=0)).max() > 10.0
 
 
-def test_initial_state_needs_samples():
+def test_bad_arguments_are_named():
     with pytest.raises(ValueError, match="n_still: expected an int >= 1, got 0"):
         initial_state(SAMPLES, 0)
+    ekf = ModelEKF(MODEL, initial_state(SAMPLES, 10), P0, FLIGHT.dt)
+    mag = fixedwing_mag_sensor(NOISE.declination_rad, 0.01)
+    short = FixedWingSamples(SAMPLES.gyro, SAMPLES.accel[:-1], SAMPLES.mag, SAMPLES.airspeed)
+    with pytest.raises(ValueError, match=r"samples: expected gyro, accel, mag of shape \(N, 3\)"):
+        run_fixedwing_ekf(ekf, FLIGHT.dt, short, mag, 0.15)
+    with pytest.raises(TypeError, match="samples: expected FixedWingSamples, got tuple"):
+        run_fixedwing_ekf(ekf, FLIGHT.dt, tuple(SAMPLES), mag, 0.15)
+    with pytest.raises(ValueError, match="dt"):
+        run_fixedwing_ekf(ekf, -0.1, SAMPLES, mag, 0.15)
 
 
 def test_error_state_ukf_tracks_the_attitude_with_plain_vector_means():
