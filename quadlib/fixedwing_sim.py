@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .flight3d import _min_jerk
-from .quaternion import quat_conjugate, quat_from_euler, quat_multiply, quat_to_dcm, quat_to_rotvec
+from .quaternion import body_rates_between, quat_from_euler, quat_to_dcm
 from .validation import as_positive, as_rng
 
 __all__ = ["FixedWingFlight", "FixedWingNoise", "FixedWingSamples", "fixedwing_flight", "fixedwing_samples"]
@@ -59,8 +59,7 @@ def fixedwing_flight(rate_hz: float = 100.0, airspeed_m_s: float = 20.0) -> Fixe
     pitch = _blend(t, [(22.0, 24.0, np.radians(5.0)), (28.0, 30.0, -np.radians(5.0))]) + np.radians(2.0)
     q = quat_from_euler(roll, pitch, yaw)
     dt = t[1] - t[0]
-    omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / dt
-    omega = np.vstack([omega, omega[-1:]])
+    omega = body_rates_between(q, dt)
     R = quat_to_dcm(q)
     v_b = np.column_stack([airspeed, np.zeros((t.size, 2))])
     f_b = (np.column_stack([np.gradient(airspeed, t), np.zeros((t.size, 2))]) + np.cross(omega, v_b)

@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .quaternion import quat_conjugate, quat_from_euler, quat_multiply, quat_to_dcm, quat_to_rotvec
+from .quaternion import body_rates_between, quat_from_euler, quat_to_dcm
 from .rotations import dcm_to_euler, wrap_angle
 from .validation import as_positive, as_rng
 
@@ -78,8 +78,7 @@ def flight_from_path(t, pos, vel, acc, yaw) -> Flight3D:
     flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0.0, -1.0, 1.0))
     q[1:] *= flips[:, None]
     dt = t[1] - t[0]
-    omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / dt
-    omega = np.vstack([omega, omega[-1:]])
+    omega = body_rates_between(q, dt)
     f_b = np.einsum("nji,nj->ni", R, thrust)
     return Flight3D(t=t, pos=pos, vel=vel, acc=acc, q_nb=q, euler=np.column_stack([roll, pitch, yaw_w]),
                     omega_b=omega, f_b=f_b)

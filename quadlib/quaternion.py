@@ -15,9 +15,9 @@ import numpy as np
 
 from .validation import as_finite_array
 
-__all__ = ["integrate_body_rate", "integrate_body_rate_linear", "quat_canonical", "quat_conjugate", "quat_from_dcm",
-           "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize", "quat_rotate", "quat_to_dcm",
-           "quat_to_euler", "quat_to_rotvec"]
+__all__ = ["body_rates_between", "integrate_body_rate", "integrate_body_rate_linear", "quat_canonical",
+           "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize",
+           "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
 
 
 def _quat(name: str, q) -> np.ndarray:
@@ -176,3 +176,12 @@ def integrate_body_rate(q, omega_b, dt: float) -> np.ndarray:
     multiplies on the left, as in Diebel's convention where the quaternion maps global to body.
     """
     return quat_multiply(q, quat_from_rotvec(_vec3("omega_b", omega_b) * float(dt)))
+
+
+def body_rates_between(q_nb, dt: float) -> np.ndarray:
+    """Body rates ``(N, 3)`` [rad/s] that turn each attitude of ``q_nb`` ``(N, 4)`` into the next in
+    ``dt`` [s] at a constant rate (the inverse of :func:`integrate_body_rate`); the last row repeats
+    the one before it."""
+    q = _quat("q_nb", q_nb)
+    omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / float(dt)
+    return np.vstack([omega, omega[-1:]])

@@ -4,6 +4,7 @@ import sympy as sp
 from scipy.spatial.transform import Rotation
 
 from quadlib.quaternion import (
+    body_rates_between,
     integrate_body_rate,
     quat_canonical,
     quat_conjugate,
@@ -150,3 +151,15 @@ def test_integrate_body_rate_multiplies_on_the_right():
     expected = Rotation.from_quat(q0, scalar_first=True) * Rotation.from_rotvec(omega * 1.0)
     np.testing.assert_allclose(quat_to_dcm(q), expected.as_matrix(), atol=1e-12)
     assert abs(np.linalg.norm(q) - 1.0) < 1e-12
+
+
+def test_body_rates_between_inverts_the_gyro_step():
+    omega = rng.normal(size=(50, 3))
+    q = [quat_from_euler(0.1, 0.2, 0.3)]
+    for w in omega[:-1]:
+        q.append(integrate_body_rate(q[-1], w, 0.01))
+    q = np.array(q)
+    q[::3] *= -1  # the sign of a quaternion does not matter
+    rates = body_rates_between(q, 0.01)
+    np.testing.assert_allclose(rates[:-1], omega[:-1], atol=1e-9)
+    np.testing.assert_allclose(rates[-1], rates[-2])
