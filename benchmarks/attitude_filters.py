@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
-from quadlib.attitude_filters import FILTERS, AttitudeNoise, run_attitude_filter
-from quadlib.attitude_sim import attitude_samples, random_rotation
-from quadlib.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
+from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
+from quadlib.attitude.tumble import attitude_samples, random_rotation
+from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
 
 
 def main(seconds: float = 120.0, seed: int = 10) -> None:

@@ -10,9 +10,9 @@ import time
 
 import numpy as np
 
-from quadlib.fixedwing_run import ESTIMATORS, run_estimator
-from quadlib.fixedwing_sim import FixedWingNoise, fixedwing_flight, fixedwing_samples
-from quadlib.rotations import wrap_angle
+from quadlib.fixedwing.run import ESTIMATORS, run_estimator
+from quadlib.fixedwing.sim import FixedWingNoise, fixedwing_flight, fixedwing_samples
+from quadlib.geometry.rotations import wrap_angle
 
 
 def main(n_flights: int = 20, seed: int = 12) -> None:

@@ -12,10 +12,10 @@ import time
 import numpy as np
 
 from quadlib import ModelEKF, ModelUKF, run_filter
-from quadlib.flight3d import SensorNoise3D, square_course
-from quadlib.models.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
-from quadlib.rotations import wrap_angle
-from quadlib.scenario3d import run3d_measurements, simulate_run3d
+from quadlib.geometry.rotations import wrap_angle
+from quadlib.quad.flight import SensorNoise3D, square_course
+from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
+from quadlib.quad.scenario import run3d_measurements, simulate_run3d
 
 
 def main(n_flights: int = 20, seed: int = 8) -> None:

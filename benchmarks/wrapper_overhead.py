@@ -25,9 +25,9 @@ import numpy as np
 from filterpy.kalman import ExtendedKalmanFilter, MerweScaledSigmaPoints, UnscentedKalmanFilter
 
 from quadlib import Measurements, ModelEKF, ModelUKF, run_filter
-from quadlib.models.quad2d import quad2d_model, quad2d_range_sensor
+from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
 from quadlib.reference import ekf_predict, ekf_update, ukf_predict, ukf_update
-from quadlib.simulate import sample_sensor, simulate_model
+from quadlib.sim.simulate import sample_sensor, simulate_model
 
 DT, STEPS, REPEATS = 0.02, 2000, 7
 ALPHA, BETA, KAPPA = 0.5, 2.0, 0.0

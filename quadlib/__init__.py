@@ -1,32 +1,29 @@
 """quadlib: models, sensors, filter wrappers and metrics for the drone state-estimation notebooks.
 
-Conventions (see notebook 00): earth frame NED, body frame FRD, SI units,
-quaternions scalar first, noise given as standard deviations, every random
-function takes a ``numpy.random.Generator``.
+The core — :mod:`~quadlib.model` (``Model``, ``Sensor``), :mod:`~quadlib.filters` (the filterpy
+wrappers), :mod:`~quadlib.replay` (``run_filter``, the one loop that drives every filter) and
+:mod:`~quadlib.constants` — sits at the top. Around it, one subpackage per concern:
+
+``geometry``   quaternions, rotations, attitude from vector measurements
+``sim``        model stepping, sensor sampling, trajectories, IMU samples
+``analysis``   metrics, NEES/NIS, Monte Carlo
+``teaching``   helpers that exist only for a chapter's explanation
+``quad``       the quadrotor models, flights and the blog's pipeline
+``attitude``   complementary filters, Kesten's attitude filters, the altitude filter
+``fixedwing``  Salmony's fixed-wing model, flight and estimators
+``data``       real sensor data
+
+Dependencies run one way: simulators and estimators depend on models and the core, never on
+each other. Conventions (chapter 0): earth frame NED, body frame FRD, SI units, quaternions
+scalar first, noise given as standard deviations, every random function takes a
+``numpy.random.Generator``.
 """
 
-from . import (
-    averaging,
-    data,
-    histogram,
-    metrics,
-    models,
-    montecarlo,
-    plotting,
-    reference,
-    simulate,
-    trajectories,
-    validation,
-)
-from .display import show_source
-from .filters import Innovation, LinearKF, ModelEKF, ModelUKF
-from .model import Model, Sensor
-from .replay import FilterRun, Measurements, SensorTrace, run_filter
+from quadlib.filters import Innovation, LinearKF, ModelEKF, ModelFilter, ModelUKF
+from quadlib.model import Model, Sensor
+from quadlib.replay import FilterRun, Measurements, SensorTrace, run_filter
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF", "ModelUKF",
-    "Sensor", "SensorTrace", "averaging", "data", "histogram", "metrics", "models", "montecarlo",
-    "plotting", "reference", "run_filter", "show_source", "simulate", "trajectories", "validation",
-]
+__all__ = ["FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF", "ModelFilter", "ModelUKF",
+           "Sensor", "SensorTrace", "run_filter"]

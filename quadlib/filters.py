@@ -33,10 +33,10 @@ from filterpy.kalman import (
 )
 from scipy.stats import chi2
 
-from .model import Model, Sensor
-from .validation import as_covariance, as_positive, as_probability, as_vector
+from quadlib.model import Model, Sensor
+from quadlib.validation import as_covariance, as_positive, as_probability, as_vector
 
-__all__ = ["Innovation", "LinearKF", "ModelEKF", "ModelUKF", "gate_threshold"]
+__all__ = ["Innovation", "LinearKF", "ModelEKF", "ModelFilter", "ModelUKF", "gate_threshold"]
 
 
 class Innovation(NamedTuple):
@@ -66,24 +66,38 @@ def gate_threshold(dim_z: int, probability: float) -> float:
     return float(chi2.ppf(probability, dim_z))
 
 
-class _ModelFilter:
-    """Behaviour shared by the three wrappers (mixed in before the filterpy class)."""
+class ModelFilter:
+    """Behaviour shared by the three wrappers (mixed in before the filterpy class).
+
+    For an error-state model (``model.error_names`` given) filterpy's ``x`` is the error ``δx``
+    and ``P`` its covariance; the full state lives in ``nominal``. After every predict and update
+    the error is folded into it, ``nominal ← nominal ⊞ δx``, and reset to zero (the "reset" step
+    of a multiplicative EKF). :attr:`estimate` is the full state either way.
+    """
 
     model: Model
+    nominal: np.ndarray | None
 
-    def _setup(self, model: Model, x0, P0, dt) -> None:
+    def _setup(self, model: Model, x0, P0, dt) -> np.ndarray:
+        """Check the arguments; return the initial filterpy ``x`` (the error state is zero)."""
         if not isinstance(model, Model):
             raise TypeError(f"model: expected a quadlib Model, got {type(model).__name__}")
         self.model = model
         self.dt = as_positive("dt", dt)
-        self._x0 = as_vector("x0", x0, model.dim_x)
-        self._P0 = as_covariance("P0", P0, model.dim_x)
+        x0 = as_vector("x0", x0, model.dim_x)
+        if model.normalize is not None:
+            x0 = as_vector("normalize(x0)", model.normalize(x0), model.dim_x)
+        self._P0 = as_covariance("P0", P0, model.dim_P)
         self._q_dt = self.dt
-        self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_x)  # checked once
+        self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_P)  # checked once
+        self.nominal = x0 if model.is_error_state else None
+        return np.zeros(model.dim_P) if model.is_error_state else x0
 
     @property
     def estimate(self) -> np.ndarray:
-        """The current state mean as a 1-D copy, shape ``(n,)``."""
+        """The current state mean as a 1-D copy, shape ``(n,)`` (the full state for an error-state model)."""
+        if self.nominal is not None:
+            return self.nominal.copy()
         return np.array(self.x, dtype=float).reshape(-1)
 
     def _process_noise(self, dt: float) -> np.ndarray:
@@ -94,9 +108,27 @@ class _ModelFilter:
             self._q_dt, self._q = dt, np.asarray(self.model.Q(dt), dtype=float)
         return self._q
 
+    def _sensor_functions(self, sensor: Sensor, context):
+        """``h(x)`` and ``H(x)`` of ``sensor`` for this sample (its context bound)."""
+        if sensor.dim_c:
+            return (lambda x: sensor.h(x, context)), (lambda x: sensor.H(x, context))
+        return sensor.h, sensor.H
+
+    def _settle(self) -> None:
+        """Fold the error into the nominal state (error-state models), then apply ``normalize``."""
+        m = self.model
+        if m.is_error_state:
+            self.nominal = np.asarray(m.state_add(self.nominal, self.x.reshape(-1)), dtype=float)
+            self.x = np.zeros_like(self.x)
+            if m.normalize is not None:
+                self.nominal = np.asarray(m.normalize(self.nominal), dtype=float)
+        elif m.normalize is not None:
+            self.x = np.asarray(m.normalize(self.x.reshape(-1)), dtype=float).reshape(self.x.shape)
+
     def _check_finite(self, step: str) -> None:
         # one reduction: a sum is finite only if every term is (or it overflows, near 1e308)
-        if not np.isfinite(self.x.sum() + self.P.sum()):
+        total = self.x.sum() + self.P.sum() + (0.0 if self.nominal is None else self.nominal.sum())
+        if not np.isfinite(total):
             raise FloatingPointError(
                 f"{type(self).__name__}.{step}: the state or covariance became non-finite; "
                 "check the model, Q, R and the inputs"
@@ -105,10 +137,15 @@ class _ModelFilter:
     def predict(self, u=None, dt: float | None = None) -> None:
         """Propagate mean and covariance over ``dt`` [s] (default: the filter's ``dt``) with input ``u``."""
         dt = self.dt if dt is None else as_positive("dt", dt)
-        self._predict(self.model.check_input(u), dt)
+        self.predict_unchecked(self.model.check_input(u), dt)
         self._check_finite("predict")
 
-    def update_sensor(self, sensor: Sensor, z, gate_probability: float | None = None) -> Innovation:
+    def predict_unchecked(self, u: np.ndarray, dt: float) -> None:
+        """:meth:`predict` without argument checks, for loops that validated their whole log first."""
+        self._predict(u, dt)
+        self._settle()
+
+    def update_sensor(self, sensor: Sensor, z, gate_probability: float | None = None, context=None) -> Innovation:
         """Update with one sample of ``sensor``.
 
         Parameters
@@ -121,6 +158,8 @@ class _ModelFilter:
             If given, a sample whose NIS exceeds the χ² quantile of this
             probability (``k`` dof) is rejected: the state and covariance are
             left as they were and ``accepted`` is False.
+        context : (c,) array_like, optional
+            The sample's context, for a sensor with ``context_names``.
 
         Returns
         -------
@@ -129,30 +168,34 @@ class _ModelFilter:
         if not isinstance(sensor, Sensor):
             raise TypeError(f"sensor: expected a quadlib Sensor, got {type(sensor).__name__}")
         z = sensor.check_measurement(z)
+        context = sensor.check_context(context)
         gate = None
         if gate_probability is not None:
             gate = gate_threshold(sensor.dim_z, as_probability("gate_probability", gate_probability))
-        innovation = self._update_sensor(sensor, z, gate)
+        innovation = self.update_unchecked(sensor, z, gate, context)
         self._check_finite("update_sensor")
         return innovation
 
-    def _update_sensor(self, sensor: Sensor, z: np.ndarray, gate: float | None) -> Innovation:
-        """Update without argument checks (callers have validated ``sensor`` and ``z``)."""
+    def update_unchecked(self, sensor: Sensor, z: np.ndarray, gate: float | None = None,
+                         context: np.ndarray | None = None) -> Innovation:
+        """:meth:`update_sensor` without argument checks; ``gate`` is the NIS threshold itself."""
         if gate is not None:
-            saved = (self.x.copy(), self.P.copy())
-        self._update(sensor, z)
+            saved = (self.x.copy(), self.P.copy(), None if self.nominal is None else self.nominal.copy())
+        self._update(sensor, z, context)
         k = sensor.dim_z
         y = self.y.reshape(k)
         S = self.S.reshape(k, k)
         nis = float(y @ self.SI.reshape(k, k) @ y)  # filterpy has already inverted S
         accepted = gate is None or nis <= gate
-        if not accepted:
-            self.x, self.P = saved
+        if accepted:
+            self._settle()
+        else:
+            self.x, self.P, self.nominal = saved
             self.x_post, self.P_post = saved[0].copy(), saved[1].copy()
         return Innovation(y, S, nis, accepted)
 
 
-class LinearKF(_ModelFilter, KalmanFilter):
+class LinearKF(ModelFilter, KalmanFilter):
     """filterpy ``KalmanFilter`` driven by a linear :class:`Model`.
 
     The model must satisfy ``g(x, u, dt) = G(dt) x + B(dt) u`` and every sensor
@@ -173,13 +216,16 @@ class LinearKF(_ModelFilter, KalmanFilter):
     """
 
     def __init__(self, model: Model, x0, P0, dt: float):
-        self._setup(model, x0, P0, dt)
+        x0 = self._setup(model, x0, P0, dt)
+        if model.is_error_state or model.normalize is not None or model.G is None:
+            raise ValueError(f"model: {model.name!r} needs G and no error state or normalize for LinearKF; "
+                             "use ModelEKF or ModelUKF")
         if model.dim_u and model.B is None:
             raise ValueError(f"model: {model.name!r} has inputs but no B(x, u, dt); LinearKF needs it")
         KalmanFilter.__init__(self, dim_x=model.dim_x, dim_z=1, dim_u=model.dim_u)
-        self.x = self._x0.reshape(-1, 1)
+        self.x = x0.reshape(-1, 1)
         self.P = self._P0.copy()
-        self._linear_checked: set[int] = set()
+        self._linear_sensors: dict[int, Sensor] = {}  # id -> sensor; holding it keeps the id from being reused
         self._check_model_linear()
 
     def _check_model_linear(self) -> None:
@@ -195,14 +241,15 @@ class LinearKF(_ModelFilter, KalmanFilter):
                 )
 
     def _check_sensor_linear(self, sensor: Sensor) -> None:
-        if id(sensor) in self._linear_checked:
+        if self._linear_sensors.get(id(sensor)) is sensor:
             return
-        if sensor.residual is not np.subtract:
-            raise ValueError(f"sensor: {sensor.name!r} has a custom residual; LinearKF only supports z - Hx")
+        if sensor.residual is not np.subtract or sensor.dim_c:
+            raise ValueError(f"sensor: {sensor.name!r} has a custom residual or a context; LinearKF only "
+                             "supports z - Hx")
         x = np.random.default_rng(1).normal(size=self.model.dim_x)
         if not np.allclose(sensor.h(x), np.asarray(sensor.H(x)) @ x, rtol=1e-9, atol=1e-12):
             raise ValueError(f"sensor: {sensor.name!r} is not linear (h(x) != H x); use ModelEKF or ModelUKF")
-        self._linear_checked.add(id(sensor))
+        self._linear_sensors[id(sensor)] = sensor
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
         m = self.model
@@ -211,13 +258,13 @@ class LinearKF(_ModelFilter, KalmanFilter):
         B = np.asarray(m.B(x, u, dt), dtype=float) if m.dim_u else None
         KalmanFilter.predict(self, u=u.reshape(-1, 1) if m.dim_u else None, B=B, F=F, Q=self._process_noise(dt))
 
-    def _update(self, sensor: Sensor, z: np.ndarray) -> None:
+    def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
         self._check_sensor_linear(sensor)
         H = np.asarray(sensor.H(self.estimate), dtype=float)
         KalmanFilter.update(self, z.reshape(-1, 1), R=sensor.R, H=H)
 
 
-class ModelEKF(_ModelFilter, ExtendedKalmanFilter):
+class ModelEKF(ModelFilter, ExtendedKalmanFilter):
     """filterpy ``ExtendedKalmanFilter`` whose predict applies the nonlinear ``g``.
 
     .. math::
@@ -226,65 +273,86 @@ class ModelEKF(_ModelFilter, ExtendedKalmanFilter):
         \\bar\\Sigma = G \\Sigma G^\\top + Q(\\Delta t), \\quad G = G(\\mu, u, \\Delta t)
 
     The update is filterpy's, with the sensor's ``h``, ``H``, ``R`` and
-    residual, and the Joseph-form covariance update.
+    residual, and the Joseph-form covariance update. With an error-state model
+    this is the multiplicative EKF: filterpy's ``x`` is the error, ``G`` and
+    ``H`` are taken with respect to it, and each update ends with the reset
+    ``x ← x ⊞ δx``, ``δx ← 0`` (see :class:`ModelFilter`).
 
     Parameters
     ----------
     model : Model
+        Must have a Jacobian ``G``.
     x0 : (n,) array_like
-    P0 : (n, n) array_like
+    P0 : (p, p) array_like
+        Over the error state for an error-state model.
     dt : float
         Default step [s].
     """
 
     def __init__(self, model: Model, x0, P0, dt: float):
-        self._setup(model, x0, P0, dt)
-        ExtendedKalmanFilter.__init__(self, dim_x=model.dim_x, dim_z=1, dim_u=model.dim_u)
-        self.x = self._x0.reshape(-1, 1)
+        x0 = self._setup(model, x0, P0, dt)
+        if model.G is None:
+            raise ValueError(f"model: {model.name!r} has no Jacobian G; ModelEKF needs one (ModelUKF does not)")
+        ExtendedKalmanFilter.__init__(self, dim_x=model.dim_P, dim_z=1, dim_u=model.dim_u)
+        self.x = x0.reshape(-1, 1)
         self.P = self._P0.copy()
         self._step = None
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
         # filterpy's predict calls predict_x (below, the nonlinear g), then P = F P Fᵀ + Q
-        x = self.x[:, 0]
+        x = self.nominal if self.nominal is not None else self.x[:, 0]
         self.F = np.asarray(self.model.G(x, u, dt), dtype=float)
         self.Q = self._process_noise(dt)
         self._step = (x, u, dt)
         ExtendedKalmanFilter.predict(self, u)
 
     def predict_x(self, u=0) -> None:
-        """Mean prediction with the model's ``g`` (replaces filterpy's ``F x + B u``)."""
+        """Mean prediction with the model's ``g`` (replaces filterpy's ``F x + B u``); for an
+        error-state model the nominal state moves and the error stays zero."""
         x, u, dt = self._step
-        self.x = np.asarray(self.model.g(x, u, dt), dtype=float).reshape(-1, 1)
+        x_new = np.asarray(self.model.g(x, u, dt), dtype=float)
+        if self.nominal is not None:
+            self.nominal = x_new
+        else:
+            self.x = x_new.reshape(-1, 1)
 
-    def _update(self, sensor: Sensor, z: np.ndarray) -> None:
+    def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
+        h, H = self._sensor_functions(sensor, context)
         if sensor.residual is np.subtract:
             residual = np.subtract
         else:
             def residual(a, b):
                 return np.asarray(sensor.residual(a[:, 0], b[:, 0]), dtype=float).reshape(-1, 1)
-        ExtendedKalmanFilter.update(
-            self,
-            z.reshape(-1, 1),
-            HJacobian=lambda x: np.asarray(sensor.H(x[:, 0]), dtype=float),
-            Hx=lambda x: np.asarray(sensor.h(x[:, 0]), dtype=float).reshape(-1, 1),
-            R=sensor.R,
-            residual=residual,
-        )
+        if self.nominal is not None:  # linearised at the nominal state, where the error is zero
+            nominal = self.nominal
+            Hx, HJacobian = (lambda e: np.asarray(h(nominal), dtype=float).reshape(-1, 1),
+                             lambda e: np.asarray(H(nominal), dtype=float))
+        else:
+            Hx, HJacobian = (lambda x: np.asarray(h(x[:, 0]), dtype=float).reshape(-1, 1),
+                             lambda x: np.asarray(H(x[:, 0]), dtype=float))
+        ExtendedKalmanFilter.update(self, z.reshape(-1, 1), HJacobian=HJacobian, Hx=Hx, R=sensor.R,
+                                    residual=residual)
 
 
 def _no_default_hx(x):
     raise RuntimeError("ModelUKF has no default measurement function: call update_sensor(sensor, z)")
 
 
-class ModelUKF(_ModelFilter, UnscentedKalmanFilter):
+class ModelUKF(ModelFilter, UnscentedKalmanFilter):
     """filterpy ``UnscentedKalmanFilter`` whose process function receives the input ``u``.
+
+    With an error-state model the sigma points are spread in the error space
+    around the nominal state, each mapped through ``x ⊞ δx`` before ``g`` or
+    ``h`` and back with ``⊟`` after ``g``; the mean error is then folded into
+    the nominal state (see :class:`ModelFilter`). Quaternions thus never meet
+    a weighted average, and the plain filterpy mean and residual are right.
 
     Parameters
     ----------
     model : Model
+        ``G`` is not used.
     x0 : (n,) array_like
-    P0 : (n, n) array_like
+    P0 : (p, p) array_like
     dt : float
         Default step [s].
     alpha, beta, kappa : float
@@ -293,48 +361,69 @@ class ModelUKF(_ModelFilter, UnscentedKalmanFilter):
     points : filterpy sigma-point object, optional
         Overrides the default ``MerweScaledSigmaPoints``.
     x_mean_fn, residual_x, state_add : callable, optional
-        Passed to filterpy for states that are not plain vectors (angles,
-        quaternions); ``residual_x`` is also used to spread the sigma points.
+        Passed to filterpy for additive states that hold angles (not with an
+        error-state model, which brings its own); ``residual_x`` is also used
+        to spread the sigma points.
 
     Notes
     -----
     Differs from plain filterpy: an update always uses sigma points drawn
     from the current ``(x, P)``. filterpy reuses those of the last predict,
-    which is wrong for an update before the first predict and for the second
-    of two sensors updating in the same step; ``ModelUKF`` redraws them then.
+    which is wrong for an update before the first predict, for the second of
+    two sensors updating in the same step, and after ``x`` or ``P`` was edited;
+    ``ModelUKF`` compares values, so ``f.x[0] = 5`` and ``f.x = new`` act alike.
     """
 
     def __init__(self, model: Model, x0, P0, dt: float, *, alpha: float = 0.5, beta: float = 2.0,
                  kappa: float = 0.0, points=None, x_mean_fn=None, residual_x=None, state_add=None):
-        self._setup(model, x0, P0, dt)
+        x0 = self._setup(model, x0, P0, dt)
+        if model.is_error_state and any(f is not None for f in (x_mean_fn, residual_x, state_add)):
+            raise ValueError(f"model: {model.name!r} is an error-state model; its own state_add and residual_x "
+                             "are used, so x_mean_fn, residual_x and state_add must not be given")
         if points is None:
             points = MerweScaledSigmaPoints(
-                model.dim_x, alpha=as_positive("alpha", alpha), beta=float(beta), kappa=float(kappa),
+                model.dim_P, alpha=as_positive("alpha", alpha), beta=float(beta), kappa=float(kappa),
                 subtract=residual_x,
             )
         UnscentedKalmanFilter.__init__(
-            self, dim_x=model.dim_x, dim_z=1, dt=self.dt, hx=_no_default_hx,
-            fx=lambda x, dt, u: model.g(x, u, dt), points=points,
+            self, dim_x=model.dim_P, dim_z=1, dt=self.dt, hx=_no_default_hx,
+            fx=self._error_fx if model.is_error_state else (lambda x, dt, u: model.g(x, u, dt)), points=points,
             x_mean_fn=x_mean_fn, residual_x=residual_x, state_add=state_add,
         )
-        self.x = self._x0.copy()
+        self.x = x0
         self.P = self._P0.copy()
-        self._sigmas_drawn_from = (None, None)
+        self._drawn = (None, None)
+        self._fx_refs = (None, None)
+
+    def _error_fx(self, e, dt, u):
+        """Error after one step of a sigma point: ``g(x₀ ⊞ e, u, dt) ⊟ g(x₀, u, dt)``."""
+        before, after = self._fx_refs
+        m = self.model
+        return m.residual_x(m.g(m.state_add(before, e), u, dt), after)
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
         # propagate the sigma points through g(x, u, dt), then add Q(dt)
         self.Q = self._process_noise(dt)
-        UnscentedKalmanFilter.predict(self, dt=dt, u=u)
-        self._sigmas_drawn_from = (self.x, self.P)
+        if self.nominal is not None:
+            after = np.asarray(self.model.g(self.nominal, u, dt), dtype=float)
+            self._fx_refs = (self.nominal, after)
+            UnscentedKalmanFilter.predict(self, dt=dt, u=u)
+            self.nominal = after
+        else:
+            UnscentedKalmanFilter.predict(self, dt=dt, u=u)
+        self._drawn = (self.x.copy(), self.P.copy())  # filterpy ends predict by redrawing them here
 
-    def _update(self, sensor: Sensor, z: np.ndarray) -> None:
-        # filterpy updates with the sigma points of the last predict: zeros before the
-        # first predict, and stale after an earlier update in the same step (a second
-        # sensor). Redraw them from the current mean and covariance, unless a predict
-        # (which ends by redrawing them from its result) produced the current x and P.
-        drawn_x, drawn_P = self._sigmas_drawn_from
-        if drawn_x is not self.x or drawn_P is not self.P:
+    def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
+        drawn_x, drawn_P = self._drawn
+        if drawn_x is None or not (np.array_equal(drawn_x, self.x) and np.array_equal(drawn_P, self.P)):
             self.sigmas_f = self.points_fn.sigma_points(self.x, self.P)
+        h, _ = self._sensor_functions(sensor, context)
+        if self.nominal is not None:
+            nominal, add = self.nominal, self.model.state_add
+            hx = lambda e: h(add(nominal, e))  # noqa: E731
+        else:
+            hx = h
         self.residual_z = sensor.residual
         self.z_mean = sensor.mean
-        UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=sensor.h)
+        UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=hx)
+        self._drawn = (None, None)

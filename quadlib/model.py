@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .validation import as_covariance, as_finite_array, as_positive, as_vector
+from quadlib.validation import as_covariance, as_finite_array, as_positive, as_vector
 
 __all__ = ["Model", "Sensor"]
 
@@ -50,31 +50,60 @@ class Model:
         Names of the ``m`` control inputs (may be empty).
     g : callable ``g(x, u, dt) -> (n,)``
         Transition function.
-    G : callable ``G(x, u, dt) -> (n, n)``
-        Jacobian of ``g`` with respect to ``x``.
-    Q : callable ``Q(dt) -> (n, n)``
+    Q : callable ``Q(dt) -> (p, p)``
         Process-noise covariance accumulated over one step of length ``dt``.
+    G : callable ``G(x, u, dt) -> (p, p)``, optional
+        Jacobian of ``g`` with respect to the state (the error state for an
+        error-state model). Required by the EKF and the linear KF; the UKF
+        does not use it.
     B : callable ``B(x, u, dt) -> (n, m)``, optional
         Jacobian of ``g`` with respect to ``u``. Required only by the linear
         Kalman filter, which needs ``g(x, u, dt) = G x + B u``.
     name : str
         Short human-readable name.
+    normalize : callable ``normalize(x) -> (n,)``, optional
+        Puts a state back on its manifold (a quaternion to unit norm, an angle
+        to (−π, π]); the filters apply it after every predict and update.
+    error_names : tuple of str, optional
+        Names of the ``p`` components of an error state. Given, the model is an
+        *error-state* (multiplicative) model: the filters keep the full state
+        ``x`` (``n``) outside and a covariance over the error ``δx`` (``p``),
+        and ``G``, ``Q`` and every sensor's ``H`` are taken with respect to
+        ``δx``. Without it ``p = n`` and ``δx`` is an ordinary difference.
+    state_add : callable ``state_add(x, dx) -> (n,)``, optional
+        ``x ⊞ δx``: applies an error to a state (``q ⊗ exp(δθ)`` for an
+        attitude). Required with ``error_names``.
+    residual_x : callable ``residual_x(x1, x0) -> (p,)``, optional
+        ``x1 ⊟ x0``: the error that takes ``x0`` to ``x1``, the inverse of
+        ``state_add``. Required with ``error_names``.
     """
 
     state_names: tuple[str, ...]
     input_names: tuple[str, ...]
     g: Callable[[Array, Array, float], Array]
-    G: Callable[[Array, Array, float], Array]
     Q: Callable[[float], Array]
+    G: Callable[[Array, Array, float], Array] | None = None
     B: Callable[[Array, Array, float], Array] | None = None
     name: str = "model"
+    normalize: Callable[[Array], Array] | None = None
+    error_names: tuple[str, ...] | None = None
+    state_add: Callable[[Array, Array], Array] | None = None
+    residual_x: Callable[[Array, Array], Array] | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "state_names", _check_names("Model", "state_names", self.state_names))
         object.__setattr__(self, "input_names", _check_names("Model", "input_names", self.input_names))
         if not self.state_names:
             raise ValueError("Model.state_names: expected at least one state, got none")
-        for attr in ("g", "G", "Q") + (("B",) if self.B is not None else ()):
+        if self.error_names is not None:
+            object.__setattr__(self, "error_names", _check_names("Model", "error_names", self.error_names))
+            if self.state_add is None or self.residual_x is None:
+                raise ValueError("Model.error_names: an error-state model needs state_add and residual_x, "
+                                 f"got state_add={self.state_add!r}, residual_x={self.residual_x!r}")
+        elif self.state_add is not None or self.residual_x is not None:
+            raise ValueError("Model.state_add, Model.residual_x: expected only with error_names, got error_names=None")
+        optional = ("G", "B", "normalize", "state_add", "residual_x")
+        for attr in ("g", "Q") + tuple(a for a in optional if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Model.{attr}: expected a callable, got {type(getattr(self, attr)).__name__}")
 
@@ -82,6 +111,16 @@ class Model:
     def dim_x(self) -> int:
         """Number of states ``n``."""
         return len(self.state_names)
+
+    @property
+    def is_error_state(self) -> bool:
+        """True when the covariance is over an error state (``error_names`` given)."""
+        return self.error_names is not None
+
+    @property
+    def dim_P(self) -> int:
+        """Size ``p`` of the covariance: the error state's, or ``n``."""
+        return len(self.error_names) if self.error_names is not None else self.dim_x
 
     @property
     def dim_u(self) -> int:
@@ -150,6 +189,11 @@ class Sensor:
         for the UKF; give one for angles. Defaults to ``weights @ Z``.
     rate_hz : float, optional
         Nominal sample rate, for documentation and simulators.
+    context_names : tuple of str, optional
+        Names of per-sample values that ``h`` and ``H`` need besides the state
+        (the fixed-wing accelerometer needs the gyro rates and the airspeed).
+        Given, they are called ``h(x, c)`` and ``H(x, c)``, and each sample
+        carries its own ``c`` (see :class:`~quadlib.replay.Measurements`).
     """
 
     name: str
@@ -160,6 +204,7 @@ class Sensor:
     residual: Callable[[Array, Array], Array] = np.subtract
     mean: Callable[[Array, Array], Array] | None = None
     rate_hz: float | None = field(default=None)
+    context_names: tuple[str, ...] = ()
 
     def __post_init__(self):
         names = _check_names(f"Sensor({self.name!r})", "measurement_names", self.measurement_names)
@@ -171,6 +216,9 @@ class Sensor:
         object.__setattr__(self, "R", R)
         if self.rate_hz is not None:
             object.__setattr__(self, "rate_hz", as_positive(f"Sensor({self.name!r}).rate_hz", self.rate_hz))
+        if self.context_names:
+            ctx = _check_names(f"Sensor({self.name!r})", "context_names", self.context_names)
+            object.__setattr__(self, "context_names", ctx)
         for attr in ("h", "H", "residual") + (("mean",) if self.mean is not None else ()):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable")
@@ -179,6 +227,19 @@ class Sensor:
     def dim_z(self) -> int:
         """Number of measured components ``k``."""
         return len(self.measurement_names)
+
+    @property
+    def dim_c(self) -> int:
+        """Number of per-sample context values (0 for an ordinary sensor)."""
+        return len(self.context_names)
+
+    def check_context(self, c, name: str = "context") -> Array | None:
+        """Return ``c`` as a finite ``(dim_c,)`` vector, or None for a sensor without context."""
+        if not self.dim_c:
+            if c is not None:
+                raise ValueError(f"{name} ({self.name}): expected None (the sensor has no context_names), got {c!r}")
+            return None
+        return as_vector(f"{name} ({self.name})", c, self.dim_c)
 
     def check_measurement(self, z, name: str = "z") -> Array:
         """Return ``z`` as a finite ``(k,)`` vector or raise ``ValueError``."""

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import Model, Sensor
+from quadlib.model import Model, Sensor
 
 __all__ = ["ekf_predict", "ekf_update", "sigma_points", "ukf_predict", "ukf_update"]
 

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .filters import _ModelFilter, gate_threshold
-from .model import Sensor
-from .validation import as_finite_array, as_probability, as_times
+from quadlib.filters import ModelFilter, gate_threshold
+from quadlib.model import Sensor
+from quadlib.validation import as_finite_array, as_probability, as_times
 
 __all__ = ["FilterRun", "Measurements", "SensorTrace", "run_filter"]
 
@@ -39,11 +39,15 @@ class Measurements:
         Non-decreasing sample times [s].
     z : (K, k) array_like (or (K,) when k == 1)
         Samples; a row containing NaN marks a missing sample.
+    context : (K, c) array_like, optional
+        Per-sample context for a sensor with ``context_names``; a row
+        containing NaN also marks the sample missing.
     """
 
     sensor: Sensor
     t: np.ndarray
     z: np.ndarray
+    context: np.ndarray | None = None
 
     def __post_init__(self):
         if not isinstance(self.sensor, Sensor):
@@ -61,8 +65,27 @@ class Measurements:
             )
         if np.any(np.isinf(z)):
             raise ValueError(f"Measurements({name!r}).z: expected finite values or NaN for missing, got inf")
+        c = self.sensor.dim_c
+        if (self.context is None) != (c == 0):
+            raise ValueError(f"Measurements({name!r}).context: expected {'None' if not c else f'shape ({len(t)}, {c})'}"
+                             f" for a sensor with context_names {self.sensor.context_names}, got "
+                             f"{None if self.context is None else np.shape(self.context)}")
+        if c:
+            context = np.asarray(self.context, dtype=float)
+            if context.ndim == 1 and c == 1:
+                context = context.reshape(-1, 1)
+            if context.shape != (t.shape[0], c) or np.any(np.isinf(context)):
+                raise ValueError(f"Measurements({name!r}).context: expected finite values or NaN of shape "
+                                 f"({t.shape[0]}, {c}), got shape {context.shape}")
+            object.__setattr__(self, "context", context)
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "z", z)
+
+    @property
+    def missing(self) -> np.ndarray:
+        """(K,) bool: the sample (or its context) has a NaN."""
+        bad = np.isnan(self.z).any(axis=1)
+        return bad if self.context is None else bad | np.isnan(self.context).any(axis=1)
 
 
 @dataclass(frozen=True)
@@ -97,7 +120,7 @@ class FilterRun:
     ----------
     t : (N,) times [s]
     x : (N, n) posterior means at ``t``
-    P : (N, n, n) posterior covariances at ``t``
+    P : (N, p, p) posterior covariances at ``t`` (over the error state for an error-state model)
     sensors : dict of sensor name -> SensorTrace
     """
 
@@ -108,7 +131,7 @@ class FilterRun:
 
     @property
     def sigma(self) -> np.ndarray:
-        """(N, n) standard deviations, the square roots of the diagonal of ``P``."""
+        """(N, p) standard deviations, the square roots of the diagonal of ``P``."""
         return np.sqrt(np.clip(np.diagonal(self.P, axis1=1, axis2=2), 0.0, None))
 
 
@@ -132,7 +155,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     -------
     FilterRun
     """
-    if not isinstance(filt, _ModelFilter):
+    if not isinstance(filt, ModelFilter):
         raise TypeError(f"filt: expected a LinearKF, ModelEKF or ModelUKF, got {type(filt).__name__}")
     t = as_times("t", t)
     N = t.shape[0]
@@ -167,27 +190,27 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     else:
         events = []
 
-    missing = [np.isnan(m.z).any(axis=1) for m in measurements]
+    missing = [m.missing for m in measurements]
     gates = [None if gate_probability is None else gate_threshold(m.sensor.dim_z, gate_probability)
              for m in measurements]
     schedule: dict[int, list] = {}  # step -> the updates applied after its predict
     for k, i, j in events:
         if not missing[i][j]:
             m = measurements[i]
-            schedule.setdefault(k, []).append((i, j, m.sensor, m.z[j], gates[i]))
+            c = None if m.context is None else m.context[j]
+            schedule.setdefault(k, []).append((i, j, m.sensor, m.z[j], gates[i], c))
 
     # Everything was validated above, so the loop uses the filter's unchecked steps
     # and the whole trajectory is checked for non-finite values once at the end.
-    n = model.dim_x
-    xs, Ps = np.empty((N, n)), np.empty((N, n, n))
+    xs, Ps = np.empty((N, model.dim_x)), np.empty((N, model.dim_P, model.dim_P))
     inputs, dts = list(u), np.diff(t).tolist()
     done = []  # (sensor index, sample index, Innovation)
     for k in range(N):
         if k:
-            filt._predict(inputs[k - 1], dts[k - 1])
-        for i, j, sensor, z, gate in schedule.get(k, ()):
-            done.append((i, j, filt._update_sensor(sensor, z, gate)))
-        xs[k] = filt.x.reshape(n)
+            filt.predict_unchecked(inputs[k - 1], dts[k - 1])
+        for i, j, sensor, z, gate, c in schedule.get(k, ()):
+            done.append((i, j, filt.update_unchecked(sensor, z, gate, c)))
+        xs[k] = filt.estimate
         Ps[k] = filt.P
 
     traces = []

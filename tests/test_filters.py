@@ -1,10 +1,12 @@
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from filterpy.kalman import KalmanFilter
 
 from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Sensor
 from quadlib.filters import gate_threshold
-from quadlib.models.height import height_model, range_sensor
+from quadlib.quad.height import height_model, range_sensor
 
 
 def constant_velocity(sigma_a=0.5):
@@ -156,8 +158,7 @@ def test_gate_threshold_is_chi2_quantile():
 
 def test_linear_kf_refuses_nonlinear_model_and_sensor():
     model, sensor = pendulum()
-    with_b = Model(model.state_names, model.input_names, model.g, model.G, model.Q,
-                   B=lambda x, u, dt: np.array([[0.0], [dt]]), name="pendulum")
+    with_b = replace(model, B=lambda x, u, dt: np.array([[0.0], [dt]]))
     with pytest.raises(ValueError, match="model: 'pendulum' is not linear"):
         LinearKF(with_b, [0.0, 0.0], np.eye(2), 0.1)
     kf = LinearKF(constant_velocity(), [0.0, 0.0], np.eye(2), 0.1)

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from quadlib.model import Model, Sensor
-from quadlib.models.height import height_model, range_sensor
+from quadlib.quad.height import height_model, range_sensor
 
 
 def _identity_model(**kw):

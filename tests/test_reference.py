@@ -5,10 +5,10 @@ import pytest
 from filterpy.kalman import KalmanFilter, MerweScaledSigmaPoints
 
 from quadlib import LinearKF, ModelEKF, ModelUKF, Sensor
-from quadlib.models.quad1d import quad1d_model, quad1d_range_sensor
-from quadlib.models.quad2d import quad2d_model, quad2d_range_sensor
+from quadlib.quad.quad1d import quad1d_model, quad1d_range_sensor
+from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
 from quadlib.reference import ekf_predict, ekf_update, sigma_points, ukf_predict, ukf_update
-from quadlib.simulate import sample_sensor, simulate_model
+from quadlib.sim.simulate import sample_sensor, simulate_model
 
 DT = 0.02
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from quadlib import Measurements, ModelEKF, run_filter
-from quadlib.models.height import height_model, range_sensor
-from quadlib.simulate import sample_sensor, simulate_model, with_dropouts
+from quadlib.quad.height import height_model, range_sensor
+from quadlib.sim.simulate import sample_sensor, simulate_model, with_dropouts
 
 
 @pytest.fixture

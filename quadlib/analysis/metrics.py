@@ -1,0 +1,171 @@
+"""Accuracy and consistency metrics: RMSE, NEES, NIS and their χ² bounds.
+
+For a consistent filter the estimation error ``e = x - x̂`` is zero-mean with
+covariance ``P``, so the normalised estimation error squared
+
+.. math::  \\epsilon_k = e_k^\\top P_k^{-1} e_k
+
+is χ²-distributed with ``n`` degrees of freedom; likewise the normalised
+innovation squared ``ν_k = y_kᵀ S_k⁻¹ y_k`` with ``k`` = measurement size.
+Averaged over ``M`` Monte Carlo runs, ``M·ε̄`` is χ² with ``M·n`` dof
+(Bar-Shalom, Li & Kirubarajan, *Estimation with Applications to Tracking
+and Navigation*, 2001, §5.4).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import chi2
+
+from quadlib.validation import as_finite_array, as_probability
+
+__all__ = ["chi2_interval", "fraction_inside", "nees", "nis", "rmse", "settling_time"]
+
+
+def rmse(error, axis: int | None = 0) -> np.ndarray:
+    """Root-mean-square of ``error`` along ``axis``, ignoring NaN entries.
+
+    Parameters
+    ----------
+    error : array_like
+        Estimation errors (estimate minus truth), any shape.
+    axis : int or None
+        Axis to average over (default 0: over time, one value per state).
+    """
+    err = np.asarray(error, dtype=float)
+    if err.size == 0:
+        raise ValueError("error: expected a non-empty array, got size 0")
+    if np.any(np.isinf(err)):
+        raise ValueError("error: expected finite values (NaN are skipped), got inf")
+    return np.sqrt(np.nanmean(err**2, axis=axis))
+
+
+def _quadratic_forms(name_e: str, e, name_P: str, P) -> np.ndarray:
+    e = as_finite_array(name_e, e)
+    P = as_finite_array(name_P, P)
+    if e.ndim == 1:
+        e = e[:, None]
+    if e.ndim != 2:
+        raise ValueError(f"{name_e}: expected shape (N, n), got {e.shape}")
+    N, n = e.shape
+    if P.shape == (n, n):
+        P = np.broadcast_to(P, (N, n, n))
+    if P.shape != (N, n, n):
+        raise ValueError(f"{name_P}: expected shape ({N}, {n}, {n}) to match {name_e}, got {P.shape}")
+    return np.einsum("ki,ki->k", e, np.linalg.solve(P, e[..., None])[..., 0])
+
+
+def nees(error, P) -> np.ndarray:
+    """Normalised estimation error squared per step.
+
+    Parameters
+    ----------
+    error : (N, n) array_like
+        Estimate minus truth (angle components already wrapped).
+    P : (N, n, n) or (n, n) array_like
+        Filter covariances.
+
+    Returns
+    -------
+    (N,) ndarray
+    """
+    return _quadratic_forms("error", error, "P", P)
+
+
+def nis(innovation, S) -> np.ndarray:
+    """Normalised innovation squared per sample; rows with NaN give NaN.
+
+    Parameters
+    ----------
+    innovation : (K, k) array_like
+    S : (K, k, k) array_like
+    """
+    y = np.asarray(innovation, dtype=float)
+    y = y[:, None] if y.ndim == 1 else y
+    S = np.asarray(S, dtype=float)
+    out = np.full(y.shape[0], np.nan)
+    ok = ~np.isnan(y).any(axis=1)
+    if S.ndim == 1:
+        S = S[:, None, None]
+    if S.shape[0] != y.shape[0]:
+        raise ValueError(f"S: expected {y.shape[0]} matrices to match innovation, got shape {S.shape}")
+    if ok.any():
+        out[ok] = _quadratic_forms("innovation", y[ok], "S", S[ok])
+    return out
+
+
+def chi2_interval(dof: int, n_runs: int = 1, probability: float = 0.95) -> tuple[float, float]:
+    """Two-sided χ² interval for a NEES/NIS value averaged over ``n_runs`` runs.
+
+    Parameters
+    ----------
+    dof : int
+        Degrees of freedom of one value (state or measurement size).
+    n_runs : int
+        Number of Monte Carlo runs averaged (1 for a single run).
+    probability : float
+        Probability mass inside the interval.
+
+    Returns
+    -------
+    (low, high) : tuple of float
+        Bounds for the *average*: ``χ²⁻¹((1∓p)/2, M·dof) / M``.
+    """
+    if not isinstance(dof, (int, np.integer)) or dof < 1:
+        raise ValueError(f"dof: expected a positive integer, got {dof!r}")
+    if not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
+        raise ValueError(f"n_runs: expected a positive integer, got {n_runs!r}")
+    p = as_probability("probability", probability)
+    total = dof * n_runs
+    low = chi2.ppf((1 - p) / 2, total) / n_runs
+    high = chi2.ppf((1 + p) / 2, total) / n_runs
+    return float(low), float(high)
+
+
+def fraction_inside(values, bounds: tuple[float, float]) -> float:
+    """Share of the finite ``values`` that lie within ``bounds`` (inclusive)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        raise ValueError("values: expected at least one finite value, got none")
+    low, high = bounds
+    if not low <= high:
+        raise ValueError(f"bounds: expected low <= high, got {bounds}")
+    return float(np.mean((v >= low) & (v <= high)))
+
+
+def settling_time(t, estimate, target: float, tolerance: float, t_start: float) -> float:
+    """Time after ``t_start`` until ``estimate`` enters and stays within ``target ± tolerance``.
+
+    Parameters
+    ----------
+    t : (N,) times [s]
+    estimate : (N,) estimates
+    target : float
+        Value the estimate should settle to.
+    tolerance : float
+        Half-width of the band (same unit as ``estimate``), > 0.
+    t_start : float
+        Time of the change [s].
+
+    Returns
+    -------
+    float
+        Seconds from ``t_start``; ``inf`` if the estimate is outside the band at the last sample.
+    """
+    t = as_finite_array("t", t, ndim=1)
+    x = as_finite_array("estimate", estimate, ndim=1)
+    if x.shape != t.shape:
+        raise ValueError(f"estimate: expected shape {t.shape} to match t, got {x.shape}")
+    if not tolerance > 0:
+        raise ValueError(f"tolerance: expected a number > 0, got {tolerance!r}")
+    after = t >= t_start
+    outside = after & (np.abs(x - target) > tolerance)
+    if not after.any():
+        raise ValueError(f"t_start: expected a time within t, got {t_start!r} after the last sample")
+    if outside[-1]:
+        return float("inf")
+    if not outside.any():
+        return 0.0
+    last_out = np.flatnonzero(outside)[-1]
+    return float(t[last_out + 1] - t_start)

@@ -1,0 +1,113 @@
+"""Complementary attitude filters: roll and pitch from gyro and accelerometer.
+
+All three blend a gyro prediction with the accelerometer's tilt (:func:`quadlib.geometry.rotations.accel_tilt`):
+
+.. math:: \\hat\\phi_k = a\\,\\bar\\phi_k + (1 - a)\\,\\phi^{acc}_k, \\qquad a = \\frac{\\tau}{\\tau + T_s}
+
+— a low-pass on the accelerometer and a high-pass on the gyro, both with time constant τ.
+They differ in the prediction ``φ̄_k``:
+
+* :func:`linear_complementary` — Tellex eqs. (41)–(42): ``φ̄_k = φ̂_{k−1} + T_s p`` (body rates
+  taken as Euler rates, eq. 39, valid near hover);
+* :func:`euler_rate_complementary` — the blog's pipeline: body rates converted to Euler rates
+  with :func:`quadlib.geometry.rotations.euler_rate_matrix` first;
+* :func:`nonlinear_complementary` — Tellex eqs. (43)–(47): the previous attitude as a quaternion,
+  turned by the measured body rates, then read back as roll and pitch.
+
+Differs from the source: printed eqs. (46)–(47) add ``T_s z_θ`` to the predicted angle, which
+already contains the gyro step, and write the accelerometer angle in its place; here the
+predicted angle is used as is. The blog weights the *accelerometer* with α ≈ 0.95, which makes
+``τ = T_s (1 − α)/α`` a small fraction of a sample: almost accelerometer-only (chapter 7).
+
+Inputs: ``gyro`` and ``accel`` are ``(N, 3)`` samples at a uniform period ``dt``; ``gyro[k]``
+is the rate over ``[t_k, t_{k+1}]``. The first estimate is ``initial`` (roll, pitch) when given,
+else the accelerometer's tilt.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.signal import lfilter
+
+from quadlib.geometry.quaternion import integrate_body_rate, quat_from_euler, quat_to_euler
+from quadlib.geometry.rotations import accel_tilt
+from quadlib.validation import as_finite_array, as_positive, as_vector
+
+__all__ = ["blend_weight", "euler_rate_complementary", "linear_complementary", "nonlinear_complementary"]
+
+
+def blend_weight(tau: float, dt: float) -> float:
+    """``a = τ / (τ + T_s)``, the weight of the gyro prediction."""
+    tau, dt = as_positive("tau", tau, allow_zero=True), as_positive("dt", dt)
+    return tau / (tau + dt)
+
+
+def _inputs(gyro, accel, initial):
+    gyro, accel = as_finite_array("gyro", gyro, ndim=2), as_finite_array("accel", accel, ndim=2)
+    if gyro.shape[1] != 3 or accel.shape != gyro.shape:
+        raise ValueError(f"gyro, accel: expected two (N, 3) arrays, got {gyro.shape} and {accel.shape}")
+    tilt = np.column_stack(accel_tilt(accel))
+    start = tilt[0] if initial is None else as_vector("initial", initial, 2)
+    return gyro, tilt, start
+
+
+def linear_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np.ndarray:
+    """Tellex eqs. (41)–(42): ``(N, 2)`` roll and pitch [rad], gyro ``p, q`` used as Euler rates.
+
+    A first-order recursion, run by ``scipy.signal.lfilter``.
+    """
+    a = blend_weight(tau, dt)
+    gyro, tilt, start = _inputs(gyro, accel, initial)
+    out = np.empty_like(tilt)
+    out[0] = start
+    drive = a * dt * gyro[:-1, :2] + (1.0 - a) * tilt[1:]
+    for j in range(2):
+        out[1:, j] = lfilter([1.0], [1.0, -a], drive[:, j], zi=[a * start[j]])[0]
+    return out
+
+
+def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np.ndarray:
+    """The blog's complementary filter: ``(N, 2)`` roll and pitch [rad], gyro rates turned into
+    Euler rates with the current estimate before integrating."""
+    a = blend_weight(tau, dt)
+    gyro, tilt, start = _inputs(gyro, accel, initial)
+    out = np.empty_like(tilt)
+    roll, pitch = start
+    out[0] = start
+    for k in range(1, len(tilt)):
+        p, q, r = gyro[k - 1]
+        sr, cr, tp = math.sin(roll), math.cos(roll), math.tan(pitch)
+        roll_rate = p + (sr * q + cr * r) * tp  # first two rows of euler_rate_matrix
+        pitch_rate = cr * q - sr * r
+        roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt[k, 0]
+        pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt[k, 1]
+        out[k] = roll, pitch
+    return out
+
+
+def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initial=None) -> np.ndarray:
+    """Tellex eqs. (43)–(47), corrected: ``(N, 2)`` roll and pitch [rad].
+
+    Each step builds ``q̂`` from the last roll and pitch and a yaw (``yaw[k−1]`` when given, e.g.
+    from a magnetometer or an EKF; otherwise the gyro-integrated yaw), turns it by the body
+    rates (:func:`quadlib.geometry.quaternion.integrate_body_rate`), and blends its roll and pitch with
+    the accelerometer's.
+    """
+    a = blend_weight(tau, dt)
+    gyro, tilt, start = _inputs(gyro, accel, initial)
+    if yaw is not None:
+        yaw = as_finite_array("yaw", yaw, ndim=1)
+        if yaw.size != len(tilt):
+            raise ValueError(f"yaw: expected shape ({len(tilt)},), got {yaw.shape}")
+    out = np.empty_like(tilt)
+    out[0] = start
+    psi = 0.0 if yaw is None else yaw[0]
+    for k in range(1, len(tilt)):
+        if yaw is not None:
+            psi = yaw[k - 1]
+        q_bar = integrate_body_rate(quat_from_euler(out[k - 1, 0], out[k - 1, 1], psi), gyro[k - 1], dt)
+        roll_bar, pitch_bar, psi = quat_to_euler(q_bar)
+        out[k] = a * np.array([roll_bar, pitch_bar]) + (1.0 - a) * tilt[k]
+    return out

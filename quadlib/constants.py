@@ -1,0 +1,40 @@
+"""Physical constants and reference vectors, defined once (chapter 0 lists them).
+
+Frames: NED earth frame (x north, y east, z down).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from quadlib.validation import as_finite_array
+
+__all__ = ["G0", "GRAVITY_N", "earth_field_ned"]
+
+G0 = 9.80665
+"""Standard gravity g₀ [m/s²] (the value the sources and PX4 use)."""
+
+GRAVITY_N = np.array([0.0, 0.0, G0])
+"""Gravity in NED [m/s²]: it points down, +z. An accelerometer at rest reads ``−R_nbᵀ GRAVITY_N``."""
+GRAVITY_N.setflags(write=False)
+
+
+def earth_field_ned(strength, inclination_rad, declination_rad=0.0) -> np.ndarray:
+    """The Earth's magnetic field in NED, ``(3,)``, in the unit of ``strength``.
+
+    .. math::
+
+        m_n = |m| \\,[\\cos I \\cos D,\\; \\cos I \\sin D,\\; \\sin I]
+
+    Parameters
+    ----------
+    strength : float
+        Field magnitude (gauss, µT, or 1 for a unit vector).
+    inclination_rad : float
+        Dip ``I`` below the horizon [rad], positive down (about +1.1 in central Europe).
+    declination_rad : float
+        Angle ``D`` of magnetic north east of true north [rad].
+    """
+    s, inc, dec = (float(as_finite_array(n, v, ndim=0)) for n, v in
+                   (("strength", strength), ("inclination_rad", inclination_rad), ("declination_rad", declination_rad)))
+    return s * np.array([np.cos(inc) * np.cos(dec), np.cos(inc) * np.sin(dec), np.sin(inc)])

@@ -1,0 +1,106 @@
+"""A fixed-wing flight for Salmony's attitude EKF: straight flight, coordinated turns, a climb.
+
+The aircraft flies along its body x axis at airspeed ``V`` (no sideslip, no angle of attack, the
+document's assumption), so the truth follows from an attitude profile and a speed profile: body
+rates from consecutive attitudes, and the accelerometer's specific force from eq. (1),
+``f_b = V̇ e_x + ω × [V, 0, 0] − R(q)ᵀ g_n``. Turns are coordinated: the bank angle is
+``atan(V ψ̇ / g)``, so the specific force has (almost) no sideways part.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from quadlib.constants import G0, GRAVITY_N, earth_field_ned
+from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
+from quadlib.quad.flight import _min_jerk
+from quadlib.validation import as_positive, as_rng
+
+__all__ = ["FixedWingFlight", "FixedWingNoise", "FixedWingSamples", "fixedwing_flight", "fixedwing_samples"]
+
+
+
+@dataclass(frozen=True)
+class FixedWingFlight:
+    """Truth at ``t`` (uniform step): attitude, Euler angles, body rates, specific force, airspeed."""
+
+    t: np.ndarray
+    q_nb: np.ndarray
+    euler: np.ndarray
+    omega_b: np.ndarray
+    f_b: np.ndarray
+    airspeed: np.ndarray
+
+    @property
+    def dt(self) -> float:
+        return float(self.t[1] - self.t[0])
+
+
+def _blend(t, changes):
+    """A profile that moves between values with minimum-jerk blends: ``changes`` = [(t0, t1, Δ), …]."""
+    out = np.zeros_like(t)
+    for t0, t1, delta in changes:
+        out += delta * _min_jerk((t - t0) / (t1 - t0))[0]
+    return out
+
+
+def fixedwing_flight(rate_hz: float = 100.0, airspeed_m_s: float = 20.0) -> FixedWingFlight:
+    """70 s: straight and level, a right turn (90°), a 5° climb, a left turn (180°), a speed
+    change from ``airspeed_m_s`` to ``airspeed_m_s + 4`` and back, straight flight."""
+    rate, v0 = as_positive("rate_hz", rate_hz), as_positive("airspeed_m_s", airspeed_m_s)
+    t = np.arange(int(70 * rate) + 1) / rate
+    airspeed = v0 + _blend(t, [(40.0, 44.0, 4.0), (55.0, 59.0, -4.0)])
+    yaw = _blend(t, [(8.0, 20.0, np.pi / 2), (32.0, 50.0, -np.pi)])
+    yaw_rate = np.gradient(yaw, t)
+    roll = np.arctan(airspeed * yaw_rate / G0)  # coordinated
+    pitch = _blend(t, [(22.0, 24.0, np.radians(5.0)), (28.0, 30.0, -np.radians(5.0))]) + np.radians(2.0)
+    q = quat_from_euler(roll, pitch, yaw)
+    dt = t[1] - t[0]
+    omega = body_rates_between(q, dt)
+    R = quat_to_dcm(q)
+    v_b = np.column_stack([airspeed, np.zeros((t.size, 2))])
+    f_b = (np.column_stack([np.gradient(airspeed, t), np.zeros((t.size, 2))]) + np.cross(omega, v_b)
+           - np.einsum("nji,j->ni", R, GRAVITY_N))
+    return FixedWingFlight(t=t, q_nb=q, euler=np.column_stack([roll, pitch, np.mod(yaw + np.pi, 2 * np.pi) - np.pi]),
+                           omega_b=omega, f_b=f_b, airspeed=airspeed)
+
+
+@dataclass(frozen=True)
+class FixedWingNoise:
+    """Sensor errors per sample (at the flight's rate) and the Earth's field."""
+
+    gyro_sigma_rad_s: float = 0.005
+    gyro_bias_rad_s: tuple = (0.02, -0.015, 0.01)
+    gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
+    accel_sigma_m_s2: float = 0.15
+    mag_sigma: float = 0.01  # on the unit vector
+    airspeed_sigma_m_s: float = 0.3
+    declination_rad: float = field(default=float(np.radians(3.0)))
+    inclination_rad: float = field(default=float(np.radians(65.0)))
+
+
+class FixedWingSamples(NamedTuple):
+    """Gyro [rad/s], accelerometer [m/s²], unit magnetometer vector, airspeed [m/s], all per sample."""
+
+    gyro: np.ndarray
+    accel: np.ndarray
+    mag: np.ndarray
+    airspeed: np.ndarray
+
+
+def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> FixedWingSamples:
+    """Sensor samples of ``flight``: gyro with bias and bias random walk, accelerometer, unit
+    magnetometer (declination and inclination), pitot airspeed."""
+    rng = as_rng(rng)
+    n = flight.t.size
+    walk = np.cumsum(rng.normal(0.0, noise.gyro_bias_walk_rad_s_sqrt_s * np.sqrt(flight.dt), (n, 3)), axis=0)
+    gyro = flight.omega_b + np.asarray(noise.gyro_bias_rad_s) + walk + rng.normal(0.0, noise.gyro_sigma_rad_s, (n, 3))
+    accel = flight.f_b + rng.normal(0.0, noise.accel_sigma_m_s2, (n, 3))
+    m_n = earth_field_ned(1.0, noise.inclination_rad, noise.declination_rad)
+    mag = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb), m_n) + rng.normal(0.0, noise.mag_sigma, (n, 3))
+    mag /= np.linalg.norm(mag, axis=1, keepdims=True)
+    airspeed = flight.airspeed + rng.normal(0.0, noise.airspeed_sigma_m_s, n)
+    return FixedWingSamples(gyro, accel, mag, airspeed)

@@ -1,0 +1,55 @@
+"""Rotations: quaternions, rotation matrices and Euler angles, attitude from vector measurements."""
+
+from .quaternion import (
+    body_rates_between,
+    integrate_body_rate,
+    integrate_body_rate_linear,
+    quat_canonical,
+    quat_conjugate,
+    quat_from_dcm,
+    quat_from_euler,
+    quat_from_rotvec,
+    quat_multiply,
+    quat_normalize,
+    quat_rotate,
+    quat_to_dcm,
+    quat_to_euler,
+    quat_to_rotvec,
+)
+from .rotations import accel_tilt, dcm_dyaw, dcm_to_euler, euler_rate_matrix, euler_to_dcm, mag_heading, wrap_angle
+from .vector_attitude import (
+    AbsoluteAttitude,
+    attitude_from_accel_mag,
+    average_geodesic,
+    average_quaternion,
+    average_rotvec,
+)
+
+__all__ = [
+    "AbsoluteAttitude",
+    "accel_tilt",
+    "attitude_from_accel_mag",
+    "average_geodesic",
+    "average_quaternion",
+    "average_rotvec",
+    "body_rates_between",
+    "dcm_dyaw",
+    "dcm_to_euler",
+    "euler_rate_matrix",
+    "euler_to_dcm",
+    "integrate_body_rate",
+    "integrate_body_rate_linear",
+    "mag_heading",
+    "quat_canonical",
+    "quat_conjugate",
+    "quat_from_dcm",
+    "quat_from_euler",
+    "quat_from_rotvec",
+    "quat_multiply",
+    "quat_normalize",
+    "quat_rotate",
+    "quat_to_dcm",
+    "quat_to_euler",
+    "quat_to_rotvec",
+    "wrap_angle",
+]

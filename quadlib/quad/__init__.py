@@ -1,0 +1,60 @@
+"""The quadrotor models of Tellex et al. §5–7, their flights and the blog's pipeline."""
+
+from .flight import (
+    Flight3D,
+    Samples,
+    SensorNoise3D,
+    baro_samples,
+    figure_eight,
+    flight_from_path,
+    gps_samples,
+    imu_samples,
+    mag_field_samples,
+    mag_yaw_samples,
+    square_course,
+)
+from .height import height_model, range_sensor
+from .pipeline import simple_pipeline
+from .quad1d import quad1d_model, quad1d_range_sensor
+from .quad2d import quad2d_model, quad2d_range_sensor
+from .quad3d import (
+    imu_inputs,
+    quad3d_baro_sensor,
+    quad3d_gps_sensor,
+    quad3d_mag_sensor,
+    quad3d_model,
+    quad3d_ukf_options,
+)
+from .rangefinder import tilted_range_sensor
+from .scenario import Run3D, run3d_measurements, simulate_run3d
+
+__all__ = [
+    "Flight3D",
+    "Run3D",
+    "Samples",
+    "SensorNoise3D",
+    "baro_samples",
+    "figure_eight",
+    "flight_from_path",
+    "gps_samples",
+    "height_model",
+    "imu_inputs",
+    "imu_samples",
+    "mag_field_samples",
+    "mag_yaw_samples",
+    "quad1d_model",
+    "quad1d_range_sensor",
+    "quad2d_model",
+    "quad2d_range_sensor",
+    "quad3d_baro_sensor",
+    "quad3d_gps_sensor",
+    "quad3d_mag_sensor",
+    "quad3d_model",
+    "quad3d_ukf_options",
+    "range_sensor",
+    "run3d_measurements",
+    "simple_pipeline",
+    "simulate_run3d",
+    "square_course",
+    "tilted_range_sensor",
+]

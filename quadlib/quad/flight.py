@@ -1,0 +1,222 @@
+"""A quadrotor flying a smooth 3D course, and what its sensors read.
+
+The truth comes from differential flatness: given position ``p(t)`` (NED) and yaw ``ψ(t)``,
+a quadrotor's thrust must point along ``a_n − g_n``, which fixes roll and pitch; body rates
+follow from consecutive attitudes, and the accelerometer reads the specific force
+``f_b = R_nbᵀ (a_n − g_n)``. An ideal quadrotor's thrust is along body z, so ``f_b`` has no x or
+y component: the accelerometer only "sees" tilt when the vehicle does not accelerate.
+
+Sensor noise defaults follow the course simulator the Tellex document was written for
+(:class:`SensorNoise3D`, all in one place). Every random draw comes from the ``rng`` argument.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from quadlib.constants import GRAVITY_N, earth_field_ned
+from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
+from quadlib.geometry.rotations import dcm_to_euler, wrap_angle
+from quadlib.validation import as_positive, as_rng
+
+__all__ = ["Flight3D", "Samples", "SensorNoise3D", "baro_samples", "figure_eight", "flight_from_path",
+           "gps_samples", "imu_samples", "mag_field_samples", "mag_yaw_samples", "square_course"]
+
+
+
+@dataclass(frozen=True)
+class Flight3D:
+    """True state of a flight sampled at ``t`` (``N`` samples, uniform step).
+
+    Attributes
+    ----------
+    t : (N,) times [s]
+    pos, vel, acc : (N, 3) NED position [m], velocity [m/s], acceleration [m/s²]
+    q_nb : (N, 4) attitude quaternion (body → NED, scalar first)
+    euler : (N, 3) roll, pitch, yaw [rad] (yaw wrapped to (−π, π])
+    omega_b : (N, 3) body rates [rad/s]; ``omega_b[k]`` turns ``q_nb[k]`` into ``q_nb[k+1]``
+    f_b : (N, 3) specific force in the body frame [m/s²]
+    """
+
+    t: np.ndarray
+    pos: np.ndarray
+    vel: np.ndarray
+    acc: np.ndarray
+    q_nb: np.ndarray
+    euler: np.ndarray
+    omega_b: np.ndarray
+    f_b: np.ndarray
+
+    @property
+    def dt(self) -> float:
+        """Sample period [s]."""
+        return float(self.t[1] - self.t[0])
+
+
+def flight_from_path(t, pos, vel, acc, yaw) -> Flight3D:
+    """Attitude, body rates and specific force of a quadrotor following ``pos(t)`` with ``yaw(t)``.
+
+    Body z points against the thrust, ``b3 = −(a − g_n)/|a − g_n|``; body x is the heading
+    direction projected perpendicular to it.
+    """
+    t = np.asarray(t, dtype=float)
+    pos, vel, acc = (np.asarray(a, dtype=float) for a in (pos, vel, acc))
+    yaw = np.asarray(yaw, dtype=float)
+    thrust = acc - GRAVITY_N
+    b3 = -thrust / np.linalg.norm(thrust, axis=1, keepdims=True)
+    heading = np.column_stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)])
+    b2 = np.cross(b3, heading)
+    b2 /= np.linalg.norm(b2, axis=1, keepdims=True)
+    b1 = np.cross(b2, b3)
+    R = np.stack([b1, b2, b3], axis=-1)  # columns are the body axes in NED
+    roll, pitch, yaw_w = dcm_to_euler(R)
+    q = quat_from_euler(roll, pitch, yaw_w)
+    # sign continuity, then the constant rate that turns q[k] into q[k+1]
+    flips = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0.0, -1.0, 1.0))
+    q[1:] *= flips[:, None]
+    dt = t[1] - t[0]
+    omega = body_rates_between(q, dt)
+    f_b = np.einsum("nji,nj->ni", R, thrust)
+    return Flight3D(t=t, pos=pos, vel=vel, acc=acc, q_nb=q, euler=np.column_stack([roll, pitch, yaw_w]),
+                    omega_b=omega, f_b=f_b)
+
+
+def _min_jerk(s):
+    """Minimum-jerk blend on s ∈ [0, 1] and its first two derivatives (zero at both ends)."""
+    s = np.clip(s, 0.0, 1.0)
+    return 10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4, 60 * s - 180 * s**2 + 120 * s**3
+
+
+def _time_grid(duration_s: float, rate_hz: float) -> np.ndarray:
+    n = int(round(duration_s * rate_hz))
+    return np.arange(n + 1) / rate_hz
+
+
+def square_course(side_m: float = 10.0, altitude_m: float = 3.0, leg_s: float = 5.0, turn_s: float = 2.0,
+                  rate_hz: float = 500.0) -> Flight3D:
+    """A square flown north, east, south, west, stopping at each corner to turn 90° right.
+
+    Each leg and each turn is a minimum-jerk move (rest to rest). The peak acceleration of a leg
+    is ``5.77 side / leg_s²`` (2.3 m/s², a 13° tilt, with the defaults). The yaw goes 0 → 2π
+    and crosses ±π during the third turn.
+    """
+    side, alt = as_positive("side_m", side_m), as_positive("altitude_m", altitude_m)
+    leg, turn, rate = as_positive("leg_s", leg_s), as_positive("turn_s", turn_s), as_positive("rate_hz", rate_hz)
+    t = _time_grid(4 * (leg + turn), rate)
+    corners = np.array([[0, 0], [side, 0], [side, side], [0, side], [0, 0]], dtype=float)
+    pos, vel, acc = np.zeros((t.size, 3)), np.zeros((t.size, 3)), np.zeros((t.size, 3))
+    pos[:, 2] = -alt
+    yaw = np.zeros(t.size)
+    for i in range(4):
+        t_leg, t_turn = i * (leg + turn), i * (leg + turn) + leg
+        on_leg = (t >= t_leg) & (t < t_turn)
+        s0, s1, s2 = _min_jerk((t[on_leg] - t_leg) / leg)
+        delta = corners[i + 1] - corners[i]
+        pos[on_leg, :2] = corners[i] + np.outer(s0, delta)
+        vel[on_leg, :2] = np.outer(s1 / leg, delta)
+        acc[on_leg, :2] = np.outer(s2 / leg**2, delta)
+        yaw[on_leg] = i * np.pi / 2
+        after = t >= t_turn
+        pos[after, :2] = corners[i + 1]
+        yaw[after] = i * np.pi / 2 + _min_jerk((t[after] - t_turn) / turn)[0] * np.pi / 2
+    return flight_from_path(t, pos, vel, acc, yaw)
+
+
+def figure_eight(width_m: float = 20.0, period_s: float = 20.0, altitude_m: float = 3.0, duration_s: float = 20.0,
+                 rate_hz: float = 500.0) -> Flight3D:
+    """A horizontal figure eight ``x = (w/2) sin ωt, y = (w/4) sin 2ωt``, nose along the velocity."""
+    w, period = as_positive("width_m", width_m), as_positive("period_s", period_s)
+    alt, rate = as_positive("altitude_m", altitude_m), as_positive("rate_hz", rate_hz)
+    t = _time_grid(as_positive("duration_s", duration_s), rate)
+    om = 2 * np.pi / period
+    a, b = w / 2, w / 4
+    pos = np.column_stack([a * np.sin(om * t), b * np.sin(2 * om * t), np.full(t.size, -alt)])
+    vel = np.column_stack([a * om * np.cos(om * t), 2 * b * om * np.cos(2 * om * t), np.zeros(t.size)])
+    acc = np.column_stack([-a * om**2 * np.sin(om * t), -4 * b * om**2 * np.sin(2 * om * t), np.zeros(t.size)])
+    yaw = np.unwrap(np.arctan2(vel[:, 1], vel[:, 0]))
+    return flight_from_path(t, pos, vel, acc, yaw)
+
+
+@dataclass(frozen=True)
+class SensorNoise3D:
+    """Sensor rates and noise of the 3D simulator (σ per sample; the course simulator's values).
+
+    IMU samples come at the flight's rate (500 Hz by default).
+    """
+
+    accel_sigma_m_s2: tuple = (0.5, 0.5, 1.5)
+    gyro_sigma_rad_s: float = 0.5
+    gyro_bias_rad_s: tuple = (0.0, 0.0, 0.0)
+    gyro_bias_walk_rad_s_sqrt_s: float = 0.0
+    gps_rate_hz: float = 10.0
+    gps_pos_sigma_m: tuple = (0.7, 0.7, 2.0)
+    gps_vel_sigma_m_s: tuple = (0.1, 0.1, 0.3)
+    mag_rate_hz: float = 100.0
+    mag_yaw_sigma_rad: float = 0.1
+    mag_field_gauss: float = 0.5
+    mag_inclination_rad: float = field(default=float(np.radians(60.0)))
+    mag_axis_sigma_gauss: float = 0.01
+    baro_rate_hz: float = 25.0
+    baro_sigma_m: float = 0.5
+
+
+class Samples(NamedTuple):
+    """Sensor samples: ``z[j]`` taken at ``t[j]``."""
+
+    t: np.ndarray
+    z: np.ndarray
+
+
+def _every(flight: Flight3D, rate_hz: float) -> np.ndarray:
+    step = int(round(1.0 / (as_positive("rate_hz", rate_hz) * flight.dt)))
+    if step < 1:
+        raise ValueError(f"rate_hz: expected at most the flight's rate {1 / flight.dt:g} Hz, got {rate_hz}")
+    return np.arange(0, flight.t.size, step)
+
+
+def imu_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> tuple[Samples, Samples]:
+    """Accelerometer (specific force) and gyro samples at every flight sample.
+
+    The gyro reads ``omega_b + bias + white noise``; the bias starts at ``gyro_bias_rad_s`` and
+    random-walks with ``gyro_bias_walk_rad_s_sqrt_s`` [rad/s/√s].
+    """
+    rng = as_rng(rng)
+    n = flight.t.size
+    accel = flight.f_b + rng.standard_normal((n, 3)) * np.asarray(noise.accel_sigma_m_s2, dtype=float)
+    walk = rng.standard_normal((n, 3)) * noise.gyro_bias_walk_rad_s_sqrt_s * np.sqrt(flight.dt)
+    bias = np.asarray(noise.gyro_bias_rad_s, dtype=float) + np.cumsum(walk, axis=0)
+    gyro = flight.omega_b + bias + rng.standard_normal((n, 3)) * noise.gyro_sigma_rad_s
+    return Samples(flight.t, accel), Samples(flight.t, gyro)
+
+
+def gps_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
+    """GPS position and velocity ``[x, y, z, ẋ, ẏ, ż]`` (NED) at ``gps_rate_hz``."""
+    k = _every(flight, noise.gps_rate_hz)
+    sigma = np.concatenate([noise.gps_pos_sigma_m, noise.gps_vel_sigma_m_s]).astype(float)
+    truth = np.hstack([flight.pos[k], flight.vel[k]])
+    return Samples(flight.t[k], truth + as_rng(rng).standard_normal(truth.shape) * sigma)
+
+
+def mag_yaw_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
+    """Heading from magnetic north [rad], wrapped to (−π, π], at ``mag_rate_hz`` (Tellex eq. 56)."""
+    k = _every(flight, noise.mag_rate_hz)
+    yaw = flight.euler[k, 2] + as_rng(rng).standard_normal(k.size) * noise.mag_yaw_sigma_rad
+    return Samples(flight.t[k], wrap_angle(yaw)[:, None])
+
+
+def mag_field_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
+    """Three-axis magnetometer [gauss] in the body frame; the field points north and down (dip)."""
+    k = _every(flight, noise.mag_rate_hz)
+    inc = noise.mag_inclination_rad
+    m_n = earth_field_ned(noise.mag_field_gauss, inc)
+    m_b = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb[k]), m_n)
+    return Samples(flight.t[k], m_b + as_rng(rng).standard_normal(m_b.shape) * noise.mag_axis_sigma_gauss)
+
+
+def baro_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
+    """Barometric altitude above the start [m] (``−z``) at ``baro_rate_hz``."""
+    k = _every(flight, noise.baro_rate_hz)
+    return Samples(flight.t[k], (-flight.pos[k, 2] + as_rng(rng).standard_normal(k.size) * noise.baro_sigma_m)[:, None])

@@ -1,0 +1,84 @@
+"""One simulated 3D flight, ready for the filters of chapter 8.
+
+:func:`simulate_run3d` draws the IMU, GPS, magnetometer and barometer samples of a
+:class:`~quadlib.quad.flight.Flight3D`, runs a complementary filter for roll and pitch at the IMU
+rate, and builds the 7-state model's inputs at the filter rate (IMU samples averaged in blocks
+of ``decimate``). :func:`run3d_measurements` wraps the samples for :func:`quadlib.run_filter`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.attitude.complementary import euler_rate_complementary
+from quadlib.quad.flight import (
+    Flight3D,
+    Samples,
+    SensorNoise3D,
+    baro_samples,
+    gps_samples,
+    imu_samples,
+    mag_yaw_samples,
+)
+from quadlib.quad.quad3d import imu_inputs
+from quadlib.replay import Measurements
+
+__all__ = ["Run3D", "run3d_measurements", "simulate_run3d"]
+
+
+@dataclass(frozen=True)
+class Run3D:
+    """A simulated flight on the filter's time grid ``t`` (``M`` steps).
+
+    Attributes
+    ----------
+    t : (M,) filter times [s]
+    u : (M, 6) model inputs (specific force, yaw rate, roll, pitch)
+    truth : (M, 7) true ``[x, y, z, ẋ, ẏ, ż, ψ]``
+    true_roll_pitch, roll_pitch : (M, 2) true and complementary-filter roll and pitch [rad]
+    gps, mag, baro : Samples within ``[t[0], t[-1]]``
+    """
+
+    t: np.ndarray
+    u: np.ndarray
+    truth: np.ndarray
+    true_roll_pitch: np.ndarray
+    roll_pitch: np.ndarray
+    gps: Samples
+    mag: Samples
+    baro: Samples
+
+
+def _clip(samples: Samples, t_end: float) -> Samples:
+    keep = samples.t <= t_end + 1e-9
+    return Samples(samples.t[keep], samples.z[keep])
+
+
+def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 10, tau: float = 5.0,
+                   true_attitude: bool = False) -> Run3D:
+    """Sample every sensor of ``flight`` once and prepare the filter inputs.
+
+    ``tau`` is the complementary filter's time constant [s]; ``true_attitude=True`` feeds the
+    model the true roll and pitch instead (an oracle, to separate the attitude's share of the error).
+    """
+    accel, gyro = imu_samples(flight, noise, rng)
+    gps, mag = gps_samples(flight, noise, rng), mag_yaw_samples(flight, noise, rng)
+    baro = baro_samples(flight, noise, rng)
+    cf = euler_rate_complementary(flight.dt, gyro.z, accel.z, tau)
+    attitude = flight.euler[:, :2] if true_attitude else cf
+    u = imu_inputs(flight.dt, accel.z, gyro.z, attitude, decimate=decimate)
+    k = np.arange(u.shape[0]) * decimate
+    t = flight.t[k]
+    truth = np.column_stack([flight.pos[k], flight.vel[k], flight.euler[k, 2]])
+    return Run3D(t=t, u=u, truth=truth, true_roll_pitch=flight.euler[k, :2], roll_pitch=cf[k],
+                 gps=_clip(gps, t[-1]), mag=_clip(mag, t[-1]), baro=_clip(baro, t[-1]))
+
+
+def run3d_measurements(run: Run3D, gps_sensor, mag_sensor, baro_sensor=None) -> list[Measurements]:
+    """The run's samples as :class:`quadlib.Measurements` for the given sensor models."""
+    out = [Measurements(gps_sensor, run.gps.t, run.gps.z), Measurements(mag_sensor, run.mag.t, run.mag.z)]
+    if baro_sensor is not None:
+        out.append(Measurements(baro_sensor, run.baro.t, run.baro.z))
+    return out

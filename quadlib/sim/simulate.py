@@ -1,0 +1,116 @@
+"""Generic simulation of a :class:`Model` and sampling of a :class:`Sensor`.
+
+Every stochastic function takes an ``rng`` (``numpy.random.Generator``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from quadlib.model import Model, Sensor
+from quadlib.replay import Measurements
+from quadlib.validation import as_finite_array, as_positive, as_probability, as_rng, as_times
+
+__all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
+
+
+
+def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> np.ndarray:
+    """Truth trajectory ``x[k] = g(x[k-1], u[k-1], dt) + w``, ``w ~ N(0, Q(dt))``.
+
+    Parameters
+    ----------
+    model : Model
+    x0 : (n,) initial state
+    t : (N,) strictly increasing times [s]
+    u : (N, m) inputs (``u[k]`` holds over ``[t[k], t[k+1])``), or None when m == 0
+    rng : numpy.random.Generator
+    process_noise : bool
+        Add the model's process noise (False gives the noise-free trajectory).
+
+    Returns
+    -------
+    (N, n) ndarray
+    """
+    rng = as_rng(rng)
+    t = as_times("t", t)
+    N = t.shape[0]
+    u = model.check_inputs(u, N)
+    x = np.empty((N, model.dim_x))
+    x[0] = model.check_state(x0, "x0")
+    for k in range(1, N):
+        dt = t[k] - t[k - 1]
+        x[k] = model.g(x[k - 1], u[k - 1], dt)
+        if process_noise:
+            x[k] += rng.multivariate_normal(np.zeros(model.dim_x), model.Q(dt), method="eigh")
+    return x
+
+
+def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Measurements:
+    """Noisy samples ``z = h(x) + v``, ``v ~ N(0, R)``, of a truth trajectory.
+
+    Parameters
+    ----------
+    sensor : Sensor
+    t : (N,) truth times [s]
+    x : (N, n) truth states
+    rng : numpy.random.Generator
+    rate_hz : float, optional
+        Sample rate; defaults to ``sensor.rate_hz``, or every truth step when
+        neither is set. Samples are taken at the truth times nearest to
+        multiples of the period, starting at ``t[0]``.
+
+    Returns
+    -------
+    Measurements
+    """
+    rng = as_rng(rng)
+    t = as_finite_array("t", t, ndim=1)
+    x = as_finite_array("x", x, ndim=2)
+    if x.shape[0] != t.shape[0]:
+        raise ValueError(f"x: expected {t.shape[0]} rows to match t, got shape {x.shape}")
+    rate = rate_hz if rate_hz is not None else sensor.rate_hz
+    if rate is None:
+        idx = np.arange(t.shape[0])
+    else:
+        period = 1.0 / as_positive("rate_hz", rate)
+        wanted = np.arange(t[0], t[-1] + 1e-9, period)
+        idx = np.unique(np.clip(np.searchsorted(t, wanted - 1e-9), 0, t.shape[0] - 1))
+    clean = np.array([sensor.h(xi) for xi in x[idx]]).reshape(idx.size, sensor.dim_z)
+    noise = rng.multivariate_normal(np.zeros(sensor.dim_z), sensor.R, size=idx.size, method="eigh")
+    return Measurements(sensor, t[idx], clean + noise)
+
+
+def with_dropouts(measurements: Measurements, rng, probability: float) -> Measurements:
+    """Copy of ``measurements`` with each sample independently missing (NaN) with ``probability``."""
+    rng = as_rng(rng)
+    p = as_probability("probability", probability, open_interval=False)
+    z = measurements.z.copy()
+    z[rng.random(z.shape[0]) < p] = np.nan
+    return Measurements(measurements.sensor, measurements.t, z)
+
+
+def with_outliers(measurements: Measurements, rng, probability: float,
+                  noise_scale: float = 10.0) -> tuple[Measurements, np.ndarray]:
+    """Copy of ``measurements`` where each sample is, with ``probability``, an outlier.
+
+    An outlier's noise has ``noise_scale`` times the sensor's standard deviation: extra noise
+    ``N(0, (noise_scale² - 1) R)`` is added to the sample (a 10× noise spike by default).
+    Missing samples stay missing.
+
+    Returns
+    -------
+    (Measurements, (K,) bool ndarray)
+        The corrupted samples and which of them are outliers.
+    """
+    rng = as_rng(rng)
+    p = as_probability("probability", probability, open_interval=False)
+    scale = as_positive("noise_scale", noise_scale)
+    if scale < 1:
+        raise ValueError(f"noise_scale: expected >= 1, got {scale}")
+    z = measurements.z.copy()
+    K, k = z.shape
+    outlier = (rng.random(K) < p) & ~np.isnan(z).any(axis=1)
+    L = np.linalg.cholesky(measurements.sensor.R)
+    z[outlier] += np.sqrt(scale**2 - 1.0) * rng.standard_normal((int(outlier.sum()), k)) @ L.T
+    return Measurements(measurements.sensor, measurements.t, z), outlier

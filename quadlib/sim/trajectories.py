@@ -1,0 +1,59 @@
+"""Truth trajectories (deterministic profiles) used by the simulators."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from quadlib.validation import as_finite_array
+
+__all__ = ["piecewise_constant", "step_profile"]
+
+
+def step_profile(t, t_step: float, before: float, after: float) -> np.ndarray:
+    """A value that jumps from ``before`` to ``after`` at ``t_step``.
+
+    Parameters
+    ----------
+    t : (N,) array_like
+        Times [s].
+    t_step : float
+        Time of the jump [s]; samples with ``t >= t_step`` take ``after``.
+    before, after : float
+        Values before and after the jump (e.g. height [m]).
+
+    Returns
+    -------
+    (N,) ndarray
+    """
+    t = as_finite_array("t", t, ndim=1)
+    return np.where(t >= float(t_step), float(after), float(before))
+
+
+def piecewise_constant(t, breakpoints, values) -> np.ndarray:
+    """A profile that takes ``values[i]`` on ``[breakpoints[i], breakpoints[i+1])``.
+
+    Before ``breakpoints[0]`` the profile is 0; after the last breakpoint it keeps the last
+    value. Typical use: a control input such as an acceleration [m/s²] or a roll command [rad].
+
+    Parameters
+    ----------
+    t : (N,) array_like
+        Times [s].
+    breakpoints : (K,) array_like
+        Strictly increasing switching times [s].
+    values : (K,) array_like
+        Value from each breakpoint on.
+
+    Returns
+    -------
+    (N,) ndarray
+    """
+    t = as_finite_array("t", t, ndim=1)
+    b = as_finite_array("breakpoints", breakpoints, ndim=1)
+    v = as_finite_array("values", values, ndim=1)
+    if b.shape != v.shape or b.size == 0:
+        raise ValueError(f"values: expected one value per breakpoint ({b.size}), got {v.size}")
+    if np.any(np.diff(b) <= 0):
+        raise ValueError(f"breakpoints: expected strictly increasing times, got {b.tolist()}")
+    i = np.searchsorted(b, t, side="right") - 1
+    return np.where(i >= 0, v[np.clip(i, 0, None)], 0.0)

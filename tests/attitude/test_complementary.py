@@ -1,0 +1,60 @@
+import numpy as np
+import pytest
+
+from quadlib.attitude.complementary import (
+    blend_weight,
+    euler_rate_complementary,
+    linear_complementary,
+    nonlinear_complementary,
+)
+from quadlib.geometry.rotations import accel_tilt
+from quadlib.quad.flight import SensorNoise3D, figure_eight, imu_samples, square_course
+
+SQUARE = square_course(leg_s=3.0, turn_s=1.0, rate_hz=250.0)
+
+
+def test_linear_filter_is_eqs_41_42_written_as_a_loop():
+    accel, gyro = imu_samples(SQUARE, SensorNoise3D(), np.random.default_rng(2))
+    dt, tau = SQUARE.dt, 0.5
+    a = tau / (tau + dt)
+    tilt = np.column_stack(accel_tilt(accel.z))
+    expected = np.empty_like(tilt)
+    expected[0] = tilt[0]
+    for k in range(1, len(tilt)):
+        expected[k] = a * (expected[k - 1] + dt * gyro.z[k - 1, :2]) + (1 - a) * tilt[k]
+    np.testing.assert_allclose(linear_complementary(dt, gyro.z, accel.z, tau), expected, atol=1e-12)
+
+
+def test_with_a_perfect_gyro_and_no_accelerometer_weight_the_filters_integrate():
+    flight = figure_eight(duration_s=8.0, rate_hz=250.0)  # tilted and turning at once
+    truth, tau = flight.euler[:, :2], 1e12  # a = 1: gyro only
+    args = (flight.dt, flight.omega_b, flight.f_b, tau)
+    nl = nonlinear_complementary(*args, yaw=flight.euler[:, 2], initial=truth[0])
+    er = euler_rate_complementary(*args, initial=truth[0])
+    lin = linear_complementary(*args, initial=truth[0])
+    assert np.abs(nl - truth).max() < 1e-6  # exact quaternion integration
+    assert np.abs(er - truth).max() < 2e-3  # first-order Euler-rate integration
+    assert np.abs(lin - truth).max() > 10 * np.abs(er - truth).max()  # p, q are not Euler rates in a banked turn
+
+
+def test_complementary_beats_gyro_only_and_accelerometer_only_in_slow_flight():
+    flight = square_course(leg_s=8.0, turn_s=2.0, rate_hz=250.0)
+    accel, gyro = imu_samples(flight, SensorNoise3D(), np.random.default_rng(4))
+    truth = flight.euler[:, :2]
+
+    def rms(est):
+        return np.sqrt(np.mean((est - truth) ** 2))
+
+    accel_only = rms(np.column_stack(accel_tilt(accel.z)))
+    gyro_only = rms(euler_rate_complementary(flight.dt, gyro.z, accel.z, 1e12))
+    blended = rms(euler_rate_complementary(flight.dt, gyro.z, accel.z, 1.0))
+    assert blended < 0.75 * min(accel_only, gyro_only)
+
+
+def test_bad_inputs_are_named():
+    with pytest.raises(ValueError, match=r"gyro, accel: expected two \(N, 3\) arrays, got \(5, 3\) and \(4, 3\)"):
+        linear_complementary(0.01, np.zeros((5, 3)), np.zeros((4, 3)), 1.0)
+    with pytest.raises(ValueError, match="tau"):
+        blend_weight(-1.0, 0.01)
+    with pytest.raises(ValueError, match=r"yaw: expected shape \(5,\), got \(4,\)"):
+        nonlinear_complementary(0.01, np.zeros((5, 3)), np.tile([0, 0, -9.8], (5, 1)), 1.0, yaw=np.zeros(4))

@@ -1,0 +1,50 @@
+import numpy as np
+import pytest
+
+from quadlib.quad.height import height_model, range_sensor
+from quadlib.sim.simulate import sample_sensor, simulate_model, with_dropouts
+from quadlib.sim.trajectories import step_profile
+
+
+def test_noise_free_simulation_follows_g():
+    m = height_model(0.5)
+    t = np.arange(0, 1.0001, 0.1)
+    x = simulate_model(m, [2.0], t, np.full((t.size, 1), 1.0), np.random.default_rng(0), process_noise=False)
+    np.testing.assert_allclose(x[:, 0], 2.0 + t, atol=1e-12)
+
+
+def test_process_noise_has_model_variance():
+    m = height_model(0.5)
+    t = np.arange(0, 200, 0.1)
+    x = simulate_model(m, [0.0], t, np.zeros((t.size, 1)), np.random.default_rng(1))
+    steps = np.diff(x[:, 0])
+    assert steps.std() == pytest.approx(0.5 * 0.1, rel=0.05)  # 2000 samples: sd of std ~1.6 %
+
+
+def test_sample_sensor_rate_noise_and_seed():
+    s = range_sensor(0.3, rate_hz=10)
+    t = np.arange(0, 100, 0.01)
+    x = np.full((t.size, 1), 5.0)
+    meas = sample_sensor(s, t, x, np.random.default_rng(2))
+    assert meas.t.size == 1000 and np.allclose(np.diff(meas.t), 0.1)
+    assert meas.z.std() == pytest.approx(0.3, rel=0.07) and meas.z.mean() == pytest.approx(5.0, abs=0.03)
+    again = sample_sensor(s, t, x, np.random.default_rng(2))
+    np.testing.assert_array_equal(meas.z, again.z)
+
+
+def test_dropouts_fraction():
+    s = range_sensor(0.3)
+    t = np.arange(0, 100, 0.01)
+    meas = sample_sensor(s, t, np.zeros((t.size, 1)), np.random.default_rng(3))
+    holed = with_dropouts(meas, np.random.default_rng(4), 0.2)
+    assert np.isnan(holed.z).mean() == pytest.approx(0.2, abs=0.02)
+    assert not np.isnan(meas.z).any()  # the original is untouched
+
+
+def test_rng_required():
+    with pytest.raises(TypeError, match="rng: expected a numpy.random.Generator"):
+        simulate_model(height_model(0.1), [0.0], [0.0, 1.0], [[0.0], [0.0]], 42)
+
+
+def test_step_profile():
+    np.testing.assert_array_equal(step_profile([0, 1, 2, 3], 2, 1.0, 5.0), [1, 1, 5, 5])
