@@ -324,9 +324,11 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
             def residual(a, b):
                 return np.asarray(sensor.residual(a[:, 0], b[:, 0]), dtype=float).reshape(-1, 1)
         if self.nominal is not None:  # linearised at the nominal state, where the error is zero
-            nominal = self.nominal
-            Hx, HJacobian = (lambda e: np.asarray(h(nominal), dtype=float).reshape(-1, 1),
-                             lambda e: np.asarray(H(nominal), dtype=float))
+            nominal, chain = self.nominal, self.model.add_jacobian
+            H_error = np.asarray(H(nominal), dtype=float)
+            if chain is not None:
+                H_error = H_error @ np.asarray(chain(nominal), dtype=float)
+            Hx, HJacobian = (lambda e: np.asarray(h(nominal), dtype=float).reshape(-1, 1), lambda e: H_error)
         else:
             Hx, HJacobian = (lambda x: np.asarray(h(x[:, 0]), dtype=float).reshape(-1, 1),
                              lambda x: np.asarray(H(x[:, 0]), dtype=float))

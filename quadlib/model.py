@@ -76,6 +76,11 @@ class Model:
     residual_x : callable ``residual_x(x1, x0) -> (p,)``, optional
         ``x1 ⊟ x0``: the error that takes ``x0`` to ``x1``, the inverse of
         ``state_add``. Required with ``error_names``.
+    add_jacobian : callable ``add_jacobian(x) -> (n, p)``, optional
+        ``∂(x ⊞ δx)/∂δx`` at ``δx = 0``. Given, the sensors' ``H`` are taken with
+        respect to the full state ``x`` (so one sensor serves both kinds of
+        model) and the EKF chains them, ``H_δ = H(x) · add_jacobian(x)``;
+        without it, an error-state model's sensors give ``H`` with respect to ``δx``.
     """
 
     state_names: tuple[str, ...]
@@ -89,6 +94,7 @@ class Model:
     error_names: tuple[str, ...] | None = None
     state_add: Callable[[Array, Array], Array] | None = None
     residual_x: Callable[[Array, Array], Array] | None = None
+    add_jacobian: Callable[[Array], Array] | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "state_names", _check_names("Model", "state_names", self.state_names))
@@ -100,9 +106,10 @@ class Model:
             if self.state_add is None or self.residual_x is None:
                 raise ValueError("Model.error_names: an error-state model needs state_add and residual_x, "
                                  f"got state_add={self.state_add!r}, residual_x={self.residual_x!r}")
-        elif self.state_add is not None or self.residual_x is not None:
-            raise ValueError("Model.state_add, Model.residual_x: expected only with error_names, got error_names=None")
-        optional = ("G", "B", "normalize", "state_add", "residual_x")
+        elif any(f is not None for f in (self.state_add, self.residual_x, self.add_jacobian)):
+            raise ValueError("Model.state_add, Model.residual_x, Model.add_jacobian: expected only with error_names, "
+                             "got error_names=None")
+        optional = ("G", "B", "normalize", "state_add", "residual_x", "add_jacobian")
         for attr in ("g", "Q") + tuple(a for a in optional if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Model.{attr}: expected a callable, got {type(getattr(self, attr)).__name__}")

@@ -17,9 +17,11 @@ __all__ = [
     "as_matrix",
     "as_positive",
     "as_probability",
+    "as_quaternions",
     "as_rng",
     "as_times",
     "as_vector",
+    "as_vectors3",
 ]
 
 
@@ -115,6 +117,22 @@ def as_covariance(name: str, value, n: int, rtol: float = 1e-9) -> np.ndarray:
             f"got smallest eigenvalue {min_eig:.3g}"
         )
     return arr
+
+
+def as_quaternions(name: str, q) -> np.ndarray:
+    """Return ``q`` as a finite ``(..., 4)`` array of scalar-first quaternions."""
+    q = as_finite_array(name, q)
+    if q.ndim == 0 or q.shape[-1] != 4:
+        raise ValueError(f"{name}: expected shape (..., 4) scalar-first quaternions, got {q.shape}")
+    return q
+
+
+def as_vectors3(name: str, v) -> np.ndarray:
+    """Return ``v`` as a finite ``(..., 3)`` array of 3-vectors."""
+    v = as_finite_array(name, v)
+    if v.ndim == 0 or v.shape[-1] != 3:
+        raise ValueError(f"{name}: expected shape (..., 3), got {v.shape}")
+    return v
 
 
 def as_positive(name: str, value, allow_zero: bool = False) -> float:

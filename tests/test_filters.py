@@ -197,3 +197,98 @@ def test_divergence_is_reported_not_silent():
     with np.errstate(over="ignore"):
         with pytest.raises(FloatingPointError, match="ModelEKF.predict: the state or covariance became non-finite"):
             f.predict()
+
+
+def test_ukf_gives_the_same_answer_whether_x_is_edited_in_place_or_replaced():
+    model, sensor = pendulum()
+    results = []
+    for edit in ("in place", "replaced"):
+        f = ModelUKF(model, [0.1, 0.0], np.eye(2) * 0.01, 0.05)
+        f.predict([0.0])
+        if edit == "in place":
+            f.x[0] = 0.3
+        else:
+            f.x = np.array([0.3, f.x[1]])
+        f.update_sensor(sensor, [0.25])
+        results.append(f.estimate)
+    np.testing.assert_array_equal(results[0], results[1])
+
+
+def _additive_as_error_state(model):
+    """The same model declared as an error-state model whose ⊞ and ⊟ are + and −."""
+    return replace(model, error_names=tuple(f"d{n}" for n in model.state_names),
+                   state_add=lambda x, d: x + d, residual_x=lambda a, b: a - b)
+
+
+@pytest.mark.parametrize("cls", [ModelEKF, ModelUKF])
+def test_an_error_state_model_with_plain_addition_is_the_additive_filter(cls):
+    model, sensor = pendulum()
+    plain, error = cls(model, [0.2, 0.1], np.eye(2) * 0.05, 0.05), cls(_additive_as_error_state(model), [0.2, 0.1],
+                                                                         np.eye(2) * 0.05, 0.05)
+    for k in range(40):
+        for f in (plain, error):
+            f.predict([0.3 * np.sin(k / 5)])
+            f.update_sensor(sensor, [np.sin(0.2 + 0.01 * k)])
+        np.testing.assert_allclose(error.estimate, plain.estimate, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(error.P, plain.P, rtol=1e-10, atol=1e-14)
+        assert np.all(error.x == 0.0)  # the error is folded into the nominal state after every step
+
+
+def test_a_rejected_sample_leaves_an_error_state_filter_untouched():
+    model, sensor = pendulum()
+    f = ModelEKF(_additive_as_error_state(model), [0.2, 0.1], np.eye(2) * 0.05, 0.05)
+    before = (f.estimate, f.P.copy())
+    inn = f.update_sensor(sensor, [50.0], gate_probability=0.99)
+    assert not inn.accepted
+    np.testing.assert_array_equal(f.estimate, before[0])
+    np.testing.assert_array_equal(f.P, before[1])
+
+
+def test_normalize_is_applied_after_predict_and_update():
+    calls = []
+
+    def unit(x):
+        calls.append(1)
+        return x / np.linalg.norm(x)
+
+    model = Model(("a", "b"), (), g=lambda x, u, dt: 1.1 * x, G=lambda x, u, dt: 1.1 * np.eye(2),
+                  Q=lambda dt: 1e-4 * np.eye(2), normalize=unit)
+    sensor = Sensor("a", ("a",), h=lambda x: x[:1], H=lambda x: np.array([[1.0, 0.0]]), R=[[0.01]])
+    for cls in (ModelEKF, ModelUKF):
+        f = cls(model, [0.6, 0.8], np.eye(2) * 0.01, 0.1)
+        f.predict()
+        assert np.linalg.norm(f.estimate) == pytest.approx(1.0)
+        f.update_sensor(sensor, [0.9])
+        assert np.linalg.norm(f.estimate) == pytest.approx(1.0)
+    assert len(calls) == 6  # x0, predict, update for each filter
+
+
+def test_a_sensor_with_context_gets_each_samples_context():
+    model, _ = pendulum()
+    scaled = Sensor("scaled", ("s",), context_names=("gain",), h=lambda x, c: np.array([c[0] * np.sin(x[0])]),
+                    H=lambda x, c: np.array([[c[0] * np.cos(x[0]), 0.0]]), R=[[0.01]])
+    plain = Sensor("scaled", ("s",), h=lambda x: np.array([2.0 * np.sin(x[0])]),
+                   H=lambda x: np.array([[2.0 * np.cos(x[0]), 0.0]]), R=[[0.01]])
+    a, b = (ModelEKF(model, [0.2, 0.0], np.eye(2) * 0.05, 0.05) for _ in range(2))
+    a.update_sensor(scaled, [0.5], context=[2.0])
+    b.update_sensor(plain, [0.5])
+    np.testing.assert_array_equal(a.estimate, b.estimate)
+    with pytest.raises(ValueError, match=r"context \(scaled\): expected shape \(1,\), got \(2,\)"):
+        a.update_sensor(scaled, [0.5], context=[1.0, 2.0])
+    with pytest.raises(ValueError, match="context \\(scaled\\): expected None"):
+        b.update_sensor(plain, [0.5], context=[2.0])
+
+
+def test_model_and_filter_arguments_for_the_new_features_are_checked():
+    model, _ = pendulum()
+    with pytest.raises(ValueError, match="Model.error_names: an error-state model needs state_add and residual_x"):
+        replace(model, error_names=("d1", "d2"))
+    with pytest.raises(ValueError, match="expected only with error_names"):
+        replace(model, state_add=lambda x, d: x + d)
+    with pytest.raises(ValueError, match="model: 'pendulum' has no Jacobian G; ModelEKF needs one"):
+        ModelEKF(replace(model, G=None), [0.0, 0.0], np.eye(2), 0.1)
+    ModelUKF(replace(model, G=None), [0.0, 0.0], np.eye(2), 0.1)  # the UKF needs no Jacobian
+    with pytest.raises(ValueError, match="LinearKF"):
+        LinearKF(_additive_as_error_state(constant_velocity()), [0.0, 0.0], np.eye(2), 0.1)
+    with pytest.raises(ValueError, match="error-state model; its own state_add and residual_x are used"):
+        ModelUKF(_additive_as_error_state(model), [0.0, 0.0], np.eye(2), 0.1, residual_x=np.subtract)

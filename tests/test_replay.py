@@ -139,3 +139,27 @@ def test_run_filter_matches_a_loop_of_checked_calls(scenario):
             f.update_sensor(sensor, meas.z[j], gate_probability=0.99)
             j += 1
         np.testing.assert_allclose(run.x[k], f.estimate, rtol=0, atol=1e-12)
+
+
+def test_context_travels_with_each_sample_and_a_nan_context_is_a_missing_sample():
+    from quadlib import Sensor
+
+    model = height_model(0.5)
+    gained = Sensor("gained", ("r",), context_names=("gain",), h=lambda x, c: c[0] * x[:1],
+                    H=lambda x, c: np.array([[c[0]]]), R=[[0.04]])
+    t = np.arange(6) * 0.1
+    gain = np.array([1.0, 2.0, np.nan, 0.5, 1.0, 3.0])
+    z = gain * np.array([1.0, 1.1, 1.2, 1.3, 1.4, 1.5])
+    run = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.1), t, np.full(6, 0.5),
+                     [Measurements(gained, t, z, context=gain)])
+    trace = run.sensors["gained"]
+    assert trace.missing.tolist() == [False, False, True, False, False, False]
+    f = ModelEKF(model, [1.0], [[1.0]], 0.1)
+    for k in range(6):  # the same by hand
+        if k:
+            f.predict([0.5], 0.1)
+        if not np.isnan(gain[k]):
+            f.update_sensor(gained, [z[k]], context=[gain[k]])
+        np.testing.assert_allclose(run.x[k], f.estimate, rtol=1e-14)
+    with pytest.raises(ValueError, match=r"Measurements\('gained'\).context: expected shape \(6, 1\)"):
+        Measurements(gained, t, z)

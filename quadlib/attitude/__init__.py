@@ -9,29 +9,42 @@ from .altitude import (
     vertical_specific_force,
 )
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
-from .kesten import FILTERS, QF, QKF, TOVKF, TQF, TQKF, AttitudeNoise, run_attitude_filter, vector_jacobian
-from .tumble import attitude_samples, random_rotation
+from .kesten import (
+    FILTERS,
+    AttitudeNoise,
+    AttitudeRun,
+    KestenFilter,
+    qf,
+    qkf,
+    run_attitude_filter,
+    tovkf,
+    tqf,
+    tqkf,
+    vector_jacobian,
+)
+from .tumble import random_rotation
 
 __all__ = [
     "AttitudeNoise",
+    "AttitudeRun",
     "FILTERS",
-    "QF",
-    "QKF",
+    "KestenFilter",
     "SEA_LEVEL_HPA",
-    "TOVKF",
-    "TQF",
-    "TQKF",
     "altitude_from_pressure",
     "altitude_model",
-    "attitude_samples",
     "baro_altitude_sensor",
     "blend_weight",
     "euler_rate_complementary",
     "linear_complementary",
     "nonlinear_complementary",
     "pressure_from_altitude",
+    "qf",
+    "qkf",
     "random_rotation",
     "run_attitude_filter",
+    "tovkf",
+    "tqf",
+    "tqkf",
     "vector_jacobian",
     "vertical_specific_force",
 ]

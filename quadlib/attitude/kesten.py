@@ -1,40 +1,48 @@
-"""The five attitude filters of Kesten (2010) §2.2.3, behind one interface.
+"""The five attitude filters of Kesten (2010) §2.2.3, each a quadlib model run by :func:`run_filter`.
 
 Every filter keeps ``q_nb`` (scalar first), predicts with the gyro (eq. 2.7, exact) and corrects
 with the accelerometer and the magnetometer:
 
-=======  ====================================  =========================================  ==================
-name     state                                 correction                                 built on
-=======  ====================================  =========================================  ==================
-TOVKF    orientation vector θ (3)              KF on the attitude from a and m (eq. 2.26)  :class:`ModelEKF`
-TQKF     quaternion (4)                        KF on the attitude quaternion (eq. 2.37)    :class:`ModelEKF`
-TQF      quaternion + one variance             geodesic average (eqs. 2.44–2.48)           scalar recursion
-QKF      quaternion (4)                        EKF on a and m separately (eqs. 2.25, 2.54) :class:`ModelEKF`
-QF       quaternion + two variances            two rotations toward a and m (2.55–2.64)    scalar recursion
-=======  ====================================  =========================================  ==================
+=======  ==============================  ==============================================  ===============
+name     state (covariance)              correction                                      kind
+=======  ==============================  ==============================================  ===============
+TOVKF    orientation vector θ (3 × 3)    KF on the attitude from a and m (eq. 2.26)      additive EKF
+TQKF     quaternion (4 × 4)              KF on the attitude quaternion (eq. 2.37)        additive EKF
+TQF      quaternion (one variance)       geodesic step toward that attitude (2.44–2.48)  error-state EKF
+QKF      quaternion (4 × 4)              EKF on a and m separately (eqs. 2.25, 2.54)     additive EKF
+QF       quaternion (two variances)      two rotations toward a and m (2.55–2.64)        error-state EKF
+=======  ==============================  ==============================================  ===============
 
 The "truncated" filters (T…) first compute an attitude from one accelerometer and one
-magnetometer sample (:func:`quadlib.geometry.vector_attitude.attitude_from_accel_mag`), so they correct only when
-both are available; QKF and QF use each sensor on its own.
+magnetometer sample (:func:`quadlib.geometry.attitude_from_accel_mag`), so they correct only
+when both are available; QKF and QF use each sensor on its own.
+
+TQF and QF are Kalman filters in disguise: a scalar variance ``p`` per correction, a gain
+``k = p/(p + r)`` and a turn ``q ← q ⊗ exp(k θ)`` are exactly a multiplicative EKF whose error
+covariance stays ``p I₃`` (``G = I``, ``H = I``, ``R = r I``), so both run on :class:`ModelEKF`
+with an error-state model — QF with one 3-D error block per sensor.
 
 Differs from the source, each time for a reason given in the errata (chapter 10):
 
-* process noise ``(σ_ω τ)²`` per axis (E15), measurement variances ``σ²`` (E16);
+* process noise ``(σ_ω Δt)²`` per axis (E15), measurement variances ``σ²`` (E16);
 * TQKF and QKF: the measured quaternion's sign is matched to the state's before subtracting,
-  and the state is renormalised after every update (the thesis renormalises too);
+  and the state is renormalised after every step (the thesis renormalises too);
 * TOVKF: the measured orientation vector is taken in the representation nearest the state
   (θ or its 2π complement), so the filter survives rotations through 180°;
-* QKF: process noise ``(σ_ω τ/2)² I₄`` instead of eq. (2.51)'s ``G Q Gᵀ = (σ_ω τ/2)² (I − q qᵀ)``
+* QKF: process noise ``(σ_ω Δt/2)² I₄`` instead of eq. (2.51)'s ``G Q Gᵀ = (σ_ω Δt/2)² (I − q qᵀ)``
   (the extra variance along ``q`` is removed by renormalisation); measured vectors are scaled to
-  the predicted lengths before the update, as the thesis's implementation does.
+  the reference lengths before the update, as the thesis's implementation does.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
+from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import (
     integrate_body_rate,
@@ -45,46 +53,64 @@ from quadlib.geometry.quaternion import (
     quat_to_rotvec,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
+from quadlib.imu import ImuLog, ImuNoise
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_finite_array, as_positive
+from quadlib.replay import FilterRun, Measurements, run_filter
+from quadlib.validation import as_positive, as_quaternions
 
-__all__ = ["AttitudeNoise", "FILTERS", "QF", "QKF", "TOVKF", "TQF", "TQKF", "run_attitude_filter",
-           "vector_jacobian"]
+__all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
+           "tqf", "tqkf", "vector_jacobian"]
+
+FREE_FALL_M_S2 = 2.0  # below this |f_b| the accelerometer says nothing about the attitude
 
 
 @dataclass(frozen=True)
-class AttitudeNoise:
-    """Sensor noise and reference vectors (defaults: the thesis's §4.2–4.4, a 0.5 G field, 67° dip).
+class AttitudeNoise(ImuNoise):
+    """Kesten's sensors (§4.2–4.4: variances 2·10⁻⁵ rad²/s², 3.5·10⁻³ m²/s⁴, 2·10⁻⁶ G²) and field.
 
-    ``accel_n`` is the specific force at rest in NED (``−g``, up); ``mag_n`` the field in NED.
+    Parameters (besides :class:`~quadlib.imu.ImuNoise`'s)
+    ----------------------------------------------------
+    field_gauss : float
+        Strength of the Earth's field [G]; the magnetometer reports gauss.
+    inclination_rad : float
+        Its dip below the horizon [rad] (67°, northern Germany).
+    thesis_process_noise : bool
+        Use the thesis's gyro process noise ``Δt σ²_ω`` (eqs. 2.52, 2.57) instead of ``(σ_ω Δt)²`` (E15).
     """
 
-    tau: float = 0.004
-    sigma_gyro: float = float(np.sqrt(2e-5))
-    sigma_accel: float = float(np.sqrt(3.5e-3))
-    sigma_mag: float = float(np.sqrt(2e-6))
-    accel_n: tuple = (0.0, 0.0, -9.80665)
-    mag_n: tuple = field(default=(0.5 * float(np.cos(np.radians(67.0))), 0.0, 0.5 * float(np.sin(np.radians(67.0)))))
+    gyro_sigma_rad_s: float = float(np.sqrt(2e-5))
+    accel_sigma_m_s2: float = float(np.sqrt(3.5e-3))
+    mag_sigma: float = float(np.sqrt(2e-6))
+    field_gauss: float = 0.5
+    inclination_rad: float = float(np.radians(67.0))
     thesis_process_noise: bool = False
 
     @property
-    def q_gyro(self) -> float:
-        """Variance of the attitude error one gyro step adds, per axis [rad²]: ``(σ_ω τ)²``, or
-        the thesis's ``τ σ²_ω`` (eqs. 2.52, 2.57; 1/τ = 250 times larger) when
-        ``thesis_process_noise`` is set (E15)."""
+    def accel_n(self) -> np.ndarray:
+        """The specific force at rest in NED, ``−g_n`` (up) [m/s²]."""
+        return -GRAVITY_N
+
+    @property
+    def field_n(self) -> np.ndarray:
+        """The Earth's field in NED [G]."""
+        return earth_field_ned(self.field_gauss, self.inclination_rad)
+
+    def gyro_step_variance(self, dt: float) -> float:
+        """Variance of the attitude error one gyro step of ``dt`` [s] adds, per axis [rad²]:
+        ``(σ_ω Δt)²``, or the thesis's ``Δt σ²_ω`` (``1/Δt`` = 250 times larger at 250 Hz)."""
         if self.thesis_process_noise:
-            return self.tau * self.sigma_gyro**2
-        return (self.sigma_gyro * self.tau) ** 2
+            return dt * self.gyro_sigma_rad_s**2
+        return (self.gyro_sigma_rad_s * dt) ** 2
 
     @property
     def r_accel(self) -> float:
         """Angular variance of one accelerometer direction, σ²_a/|a|² (eq. 2.33)."""
-        return self.sigma_accel**2 / float(np.dot(self.accel_n, self.accel_n))
+        return self.accel_sigma_m_s2**2 / float(self.accel_n @ self.accel_n)
 
     @property
     def r_mag(self) -> float:
         """Angular variance of one magnetometer direction, σ²_m/|m|² (eq. 2.34)."""
-        return self.sigma_mag**2 / float(np.dot(self.mag_n, self.mag_n))
+        return self.mag_sigma**2 / float(self.field_n @ self.field_n)
 
 
 def _dcm_h(q):
@@ -105,208 +131,210 @@ def vector_jacobian(q, v_n) -> np.ndarray:
     return np.column_stack([(_dcm_h(q + e).T @ v - _dcm_h(q - e).T @ v) / 2.0 for e in np.eye(4)])
 
 
-class _AttitudeFilter:
-    """Common interface: ``predict(omega_b)``, ``update(f_b, m_b)`` (either may be None), ``q``."""
+class KestenFilter(NamedTuple):
+    """One of Kesten's filters as parts for :class:`ModelEKF` and :func:`run_filter`.
 
-    name = "?"
-    truncated = False
+    ``samples(log)`` gives each sensor's ``(N, k)`` samples from an :class:`ImuLog` (NaN rows
+    where it has none); ``state_from_q`` and ``q_from_state`` convert between ``q_nb`` and the state.
+    """
 
-    def __init__(self, noise: AttitudeNoise, q0=(1.0, 0.0, 0.0, 0.0), sigma0_rad: float = 1.0):
-        if not isinstance(noise, AttitudeNoise):
-            raise TypeError(f"noise: expected an AttitudeNoise, got {type(noise).__name__}")
-        self.noise = noise
-        self.sigma0 = as_positive("sigma0_rad", sigma0_rad)
-        self._init(quat_normalize(as_finite_array("q0", q0)))
-
-    def update(self, f_b=None, m_b=None) -> None:
-        """Correct with whichever samples are given (truncated filters need both)."""
-        if self.truncated:
-            if f_b is not None and m_b is not None:
-                att = attitude_from_accel_mag(np.atleast_2d(f_b), np.atleast_2d(m_b))
-                if att.valid[0]:
-                    self.update_attitude(att.q_nb[0])
-            return
-        if f_b is not None and np.linalg.norm(f_b) > 2.0:  # not in free fall
-            self._update_vector(np.asarray(f_b, dtype=float), "accel")
-        if m_b is not None:
-            self._update_vector(np.asarray(m_b, dtype=float), "mag")
+    name: str
+    model: Model
+    P0: np.ndarray
+    sensors: tuple[Sensor, ...]
+    samples: Callable[[ImuLog], tuple[np.ndarray, ...]]
+    state_from_q: Callable[[np.ndarray], np.ndarray] = quat_normalize
+    q_from_state: Callable[[np.ndarray], np.ndarray] = quat_normalize
 
 
-class _GeodesicFilter(_AttitudeFilter):
-    """Shared by TQF and QF: the quaternion is turned, never added to; variances are scalars."""
+# --- measured streams -------------------------------------------------------------------------
 
-    def _init(self, q0):
-        self._q = q0
-        self._p = {"attitude": self.sigma0**2, "accel": self.sigma0**2, "mag": self.sigma0**2}
-
-    @property
-    def q(self) -> np.ndarray:
-        return self._q
-
-    def predict(self, omega_b) -> None:
-        self._q = integrate_body_rate(self._q, omega_b, self.noise.tau)
-        for key in self._p:
-            self._p[key] += self.noise.q_gyro
-
-    def _turn(self, key, r, theta) -> None:
-        k = self._p[key] / (self._p[key] + r)
-        self._q = quat_multiply(self._q, quat_from_rotvec(k * theta))
-        self._p[key] *= 1.0 - k
+def _accel(log: ImuLog) -> np.ndarray:
+    """The accelerometer with free-fall samples (|f_b| ≤ 2 m/s²) removed."""
+    a = np.array(log.accel)
+    with np.errstate(invalid="ignore"):
+        a[np.linalg.norm(a, axis=1) <= FREE_FALL_M_S2] = np.nan
+    return a
 
 
-class TQF(_GeodesicFilter):
-    """Truncated quaternion filter: a scalar-gain step along the geodesic toward the measured
-    attitude (eqs. 2.44–2.48)."""
-
-    name, truncated = "TQF", True
-
-    def update_attitude(self, z_q) -> None:
-        """Correct with an attitude computed from accelerometer and magnetometer (truncated)."""
-        r = 0.5 * (self.noise.r_accel + self.noise.r_mag)
-        self._turn("attitude", r, quat_to_rotvec(quat_multiply(quat_conjugate(self._q), z_q)))
+def _mag(log: ImuLog) -> np.ndarray:
+    return np.full((len(log), 3), np.nan) if log.mag is None else np.array(log.mag)
 
 
-class QF(_GeodesicFilter):
-    """Quaternion filter: two scalar variances, and rotations that bring the predicted gravity and
-    field directions toward the measured ones (eqs. 2.55–2.64)."""
-
-    name = "QF"
-
-    def _update_vector(self, z_b, which) -> None:
-        ref = self.noise.accel_n if which == "accel" else self.noise.mag_n
-        predicted = _dcm_h(self._q).T @ np.asarray(ref, dtype=float)
-        a, b = z_b / np.linalg.norm(z_b), predicted / np.linalg.norm(predicted)
-        axis = np.cross(a, b)
-        s = np.linalg.norm(axis)
-        if s < 1e-12:
-            return
-        theta = axis / s * np.arccos(np.clip(a @ b, -1.0, 1.0))  # eqs. (2.61), (2.63)
-        self._turn(which, self.noise.r_accel if which == "accel" else self.noise.r_mag, theta)
+def _scaled(v: np.ndarray, length: float) -> np.ndarray:
+    return v * (length / np.linalg.norm(v, axis=1, keepdims=True))
 
 
-class _KalmanAttitudeFilter(_AttitudeFilter):
-    """A filter whose correction is a quadlib ModelEKF update."""
+def _measured_attitude(log: ImuLog) -> np.ndarray:
+    """``(N, 4)`` attitude from each accelerometer + magnetometer pair (eqs. 2.2–2.5); NaN rows
+    where either is missing or the pair gives no attitude."""
+    a, m = _accel(log), _mag(log)
+    both = ~(np.isnan(a).any(axis=1) | np.isnan(m).any(axis=1))
+    out = np.full((len(log), 4), np.nan)
+    if both.any():
+        att = attitude_from_accel_mag(a[both], m[both])
+        out[np.flatnonzero(both)[att.valid]] = att.q_nb[att.valid]
+    return out
 
-    @property
-    def q(self) -> np.ndarray:
-        return self._state_to_q(self.kf.estimate)
 
-    def predict(self, omega_b) -> None:
-        self.kf.predict(np.asarray(omega_b, dtype=float), self.noise.tau)
+def _measured_rotvec(log: ImuLog) -> tuple[np.ndarray]:
+    q = _measured_attitude(log)
+    ok = ~np.isnan(q[:, 0])
+    out = np.full((len(log), 3), np.nan)
+    out[ok] = quat_to_rotvec(q[ok])
+    return (out,)
 
 
-def _quat_model(noise: AttitudeNoise, q_scale: float) -> Model:
+# --- models and sensors ---------------------------------------------------------------------
+
+def _checked(noise, sigma0_rad) -> float:
+    if not isinstance(noise, AttitudeNoise):
+        raise TypeError(f"noise: expected an AttitudeNoise, got {type(noise).__name__}")
+    return as_positive("sigma0_rad", sigma0_rad)
+
+
+def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
+    """``q ← q ⊗ exp(ω Δt)`` on the 4 components, process noise ``(σ_ω Δt/2)² I₄``."""
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
                  g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(4),
-                 Q=lambda dt: q_scale * noise.q_gyro * np.eye(4), name="gyro-driven quaternion")
+                 Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=quat_normalize,
+                 name="gyro-driven quaternion")
 
 
-class TOVKF(_KalmanAttitudeFilter):
+def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
+    """``q`` with ``blocks`` rotation errors of 3 components each: ``q ⊞ δ = q ⊗ exp(δ₁) ⊗ exp(δ₂) …``."""
+
+    def state_add(q, d):
+        for i in range(blocks):
+            q = quat_multiply(q, quat_from_rotvec(d[3 * i:3 * i + 3]))
+        return q
+
+    def residual_x(q1, q0):  # one right inverse of state_add: the whole turn in the first block
+        return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(q0), q1)), np.zeros(3 * blocks - 3)])
+
+    names = tuple(f"dtheta{i}_{axis}" for i in range(1, blocks + 1) for axis in "xyz")
+    n = 3 * blocks
+    return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"), error_names=names,
+                 g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(n),
+                 Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(n), state_add=state_add, residual_x=residual_x,
+                 normalize=quat_normalize, name="gyro-driven rotation error")
+
+
+def _turn_between(z, z_hat) -> np.ndarray:
+    """The rotation vector that turns the measured direction ``z`` onto the predicted ``z_hat``
+    (eqs. 2.61, 2.63): axis ``z × ẑ``, angle between them."""
+    a, b = z / np.linalg.norm(z), z_hat / np.linalg.norm(z_hat)
+    axis = np.cross(a, b)
+    s = np.linalg.norm(axis)
+    if s < 1e-12:
+        return np.zeros(3)
+    return axis / s * np.arccos(np.clip(a @ b, -1.0, 1.0))
+
+
+def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
     """Truncated orientation-vector Kalman filter: state θ, H = I₃, Φ = I₃ (eqs. 2.26–2.35)."""
+    s0 = _checked(noise, sigma0_rad)
+    model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
+                  g=lambda x, u, dt: quat_to_rotvec(integrate_body_rate(quat_from_rotvec(x), u, dt)),
+                  G=lambda x, u, dt: np.eye(3), Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(3),
+                  name="orientation vector")
 
-    name, truncated = "TOVKF", True
+    def nearest(z, x):  # z, or the same attitude turned the other way round, whichever is nearer x
+        angle = np.linalg.norm(z)
+        if angle < 1e-12:
+            return z - x
+        other = z - 2 * np.pi * z / angle
+        return (z if np.linalg.norm(z - x) <= np.linalg.norm(other - x) else other) - x
 
-    def _init(self, q0):
-        n = self.noise
-        model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
-                      g=lambda x, u, dt: quat_to_rotvec(integrate_body_rate(quat_from_rotvec(x), u, dt)),
-                      G=lambda x, u, dt: np.eye(3), Q=lambda dt: n.q_gyro * np.eye(3), name="orientation vector")
-
-        def nearest(z, x):  # z, or the same attitude turned the other way round, whichever is nearer x
-            angle = np.linalg.norm(z)
-            if angle < 1e-12:
-                return z - x
-            other = z - 2 * np.pi * z / angle
-            return (z if np.linalg.norm(z - x) <= np.linalg.norm(other - x) else other) - x
-
-        self.sensor = Sensor(name="attitude", measurement_names=("tx", "ty", "tz"), h=lambda x: x,
-                             H=lambda x: np.eye(3), R=0.5 * (n.r_accel + n.r_mag) * np.eye(3), residual=nearest)
-        self.kf = ModelEKF(model, quat_to_rotvec(q0), self.sigma0**2 * np.eye(3), n.tau)
-
-    @staticmethod
-    def _state_to_q(x):
-        return quat_from_rotvec(x)
-
-    def update_attitude(self, z_q) -> None:
-        self.kf.update_sensor(self.sensor, quat_to_rotvec(z_q))
+    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=lambda x: x,
+                    H=lambda x: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3), residual=nearest)
+    return KestenFilter("TOVKF", model, s0**2 * np.eye(3), (sensor,), _measured_rotvec,
+                        state_from_q=quat_to_rotvec, q_from_state=quat_from_rotvec)
 
 
-class TQKF(_KalmanAttitudeFilter):
+def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
     """Truncated quaternion Kalman filter: state q, H = I₄, Φ = I₄ (eqs. 2.36–2.43)."""
-
-    name, truncated = "TQKF", True
-
-    def _init(self, q0):
-        n = self.noise
-        self.sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=lambda x: x,
-                             H=lambda x: np.eye(4), R=0.25 * 0.5 * (n.r_accel + n.r_mag) * np.eye(4),
-                             residual=lambda z, x: (z if z @ x >= 0 else -z) - x)
-        self.kf = ModelEKF(_quat_model(n, 0.25), q0, 0.25 * self.sigma0**2 * np.eye(4), n.tau)
-
-    @staticmethod
-    def _state_to_q(x):
-        return quat_normalize(x)
-
-    def update_attitude(self, z_q) -> None:
-        self.kf.update_sensor(self.sensor, z_q)
-        self.kf.x = quat_normalize(self.kf.estimate).reshape(-1, 1)
+    s0 = _checked(noise, sigma0_rad)
+    sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=lambda x: x, H=lambda x: np.eye(4),
+                    R=0.25 * 0.5 * (noise.r_accel + noise.r_mag) * np.eye(4),
+                    residual=lambda z, x: (z if z @ x >= 0 else -z) - x)
+    return KestenFilter("TQKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), (sensor,),
+                        lambda log: (_measured_attitude(log),))
 
 
-class QKF(_KalmanAttitudeFilter):
+def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+    """Truncated quaternion filter: a scalar-gain step along the geodesic toward the measured
+    attitude (eqs. 2.44–2.48), as an error-state EKF with covariance ``p I₃``."""
+    s0 = _checked(noise, sigma0_rad)
+    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=quat_to_rotvec,
+                    H=lambda q: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
+                    residual=lambda z, z_hat: quat_to_rotvec(quat_multiply(quat_conjugate(quat_from_rotvec(z_hat)),
+                                                                           quat_from_rotvec(z))))
+    return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,), _measured_rotvec)
+
+
+def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
     """Quaternion Kalman filter: the accelerometer and the magnetometer as nonlinear measurements
     of q (eqs. 2.25, 2.49–2.54), each updated on its own."""
+    s0 = _checked(noise, sigma0_rad)
+    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: _dcm_h(x).T @ ref,
+                           H=lambda x, ref=ref: vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
+                    for name, ref, sigma in (("accel", noise.accel_n, noise.accel_sigma_m_s2),
+                                             ("mag", noise.field_n, noise.mag_sigma)))
 
-    name = "QKF"
+    def samples(log):  # scaled to the reference lengths, as the thesis's implementation does
+        return (_scaled(_accel(log), float(np.linalg.norm(noise.accel_n))),
+                _scaled(_mag(log), float(np.linalg.norm(noise.field_n))))
 
-    def _init(self, q0):
-        n = self.noise
-        self.sensors = {}
-        for which, ref, r in (("accel", n.accel_n, n.sigma_accel**2), ("mag", n.mag_n, n.sigma_mag**2)):
-            ref = np.asarray(ref, dtype=float)
-            self.sensors[which] = Sensor(name=which, measurement_names=("x", "y", "z"),
-                                         h=lambda x, ref=ref: _dcm_h(x).T @ ref,
-                                         H=lambda x, ref=ref: vector_jacobian(x, ref), R=r * np.eye(3))
-        self.kf = ModelEKF(_quat_model(n, 0.25), q0, 0.25 * self.sigma0**2 * np.eye(4), n.tau)
-
-    @staticmethod
-    def _state_to_q(x):
-        return quat_normalize(x)
-
-    def _update_vector(self, z_b, which) -> None:
-        sensor = self.sensors[which]
-        predicted = sensor.h(self.kf.estimate)
-        self.kf.update_sensor(sensor, z_b * (np.linalg.norm(predicted) / np.linalg.norm(z_b)))
-        self.kf.x = quat_normalize(self.kf.estimate).reshape(-1, 1)
+    return KestenFilter("QKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), sensors, samples)
 
 
-FILTERS = {cls.name: cls for cls in (TOVKF, TQKF, TQF, QKF, QF)}
+def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+    """Quaternion filter: one variance per sensor, and rotations that bring the predicted gravity
+    and field directions toward the measured ones (eqs. 2.55–2.64). The innovation is the turn
+    between the two directions, so ``H`` selects that sensor's error block."""
+    s0 = _checked(noise, sigma0_rad)
+    sensors = []
+    for block, (name, ref, r) in enumerate((("accel", noise.accel_n, noise.r_accel),
+                                            ("mag", noise.field_n, noise.r_mag))):
+        H = np.zeros((3, 6))
+        H[:, 3 * block:3 * block + 3] = np.eye(3)
+        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: _dcm_h(q).T @ ref,
+                              H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
+    return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
+                        lambda log: (_accel(log), _mag(log)))
 
 
-def run_attitude_filter(filt, gyro, accel, mag) -> np.ndarray:
-    """Run ``filt`` over ``N`` samples: ``(N, 4)`` attitude estimates.
+FILTERS = {"TOVKF": tovkf, "TQKF": tqkf, "TQF": tqf, "QKF": qkf, "QF": qf}
 
-    ``gyro[k]`` turns sample ``k`` into ``k + 1``; ``accel`` and ``mag`` hold NaN rows where a
-    sensor has no sample (a lower rate, an outage).
+
+class AttitudeRun(NamedTuple):
+    """``q_nb`` (N, 4) estimates and the :class:`~quadlib.replay.FilterRun` behind them."""
+
+    q_nb: np.ndarray
+    run: FilterRun
+
+
+def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)) -> AttitudeRun:
+    """Run one of Kesten's filters over an IMU log with :func:`run_filter`.
+
+    Parameters
+    ----------
+    filt : KestenFilter
+        From :data:`FILTERS`, e.g. ``qkf(AttitudeNoise())``.
+    log : ImuLog
+        ``gyro[k]`` turns sample ``k`` into ``k + 1``; accelerometer and magnetometer rows of NaN
+        are missing samples.
+    q0 : (4,) array_like
+        Initial attitude ``q_nb``.
     """
-    gyro = as_finite_array("gyro", gyro, ndim=2)
-    accel, mag = np.asarray(accel, dtype=float), np.asarray(mag, dtype=float)
-    if gyro.shape[1] != 3 or accel.shape != gyro.shape or mag.shape != gyro.shape:
-        raise ValueError(f"gyro, accel, mag: expected three (N, 3) arrays, got {gyro.shape}, {accel.shape}, "
-                         f"{mag.shape}")
-    out = np.empty((len(gyro), 4))
-    has_a, has_m = ~np.isnan(accel).any(axis=1), ~np.isnan(mag).any(axis=1)
-    if filt.truncated:  # the attitude measurements, computed for the whole log at once
-        both = has_a & has_m
-        measured = attitude_from_accel_mag(accel[both], mag[both])
-        attitude = np.full((len(gyro), 4), np.nan)
-        attitude[np.flatnonzero(both)[measured.valid]] = measured.q_nb[measured.valid]
-    for k in range(len(gyro)):
-        if k:
-            filt.predict(gyro[k - 1])
-        if filt.truncated:
-            if not np.isnan(attitude[k, 0]):
-                filt.update_attitude(attitude[k])
-        else:
-            filt.update(accel[k] if has_a[k] else None, mag[k] if has_m[k] else None)
-        out[k] = filt.q
-    return out
+    if not isinstance(filt, KestenFilter):
+        raise TypeError(f"filt: expected a KestenFilter (e.g. qkf(noise)), got {type(filt).__name__}")
+    if not isinstance(log, ImuLog):
+        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    q0 = quat_normalize(as_quaternions("q0", q0))
+    dt = float(log.t[1] - log.t[0]) if len(log) > 1 else 1.0
+    ekf = ModelEKF(filt.model, filt.state_from_q(q0), filt.P0, dt)
+    measurements = [Measurements(s, log.t, z) for s, z in zip(filt.sensors, filt.samples(log), strict=True)]
+    run = run_filter(ekf, log.t, log.gyro, measurements)
+    return AttitudeRun(filt.q_from_state(run.x), run)

@@ -1,42 +1,56 @@
 """Salmony's fixed-wing attitude problem: model, simulated flight and estimators."""
 
-from .ekf import fixedwing_accel_sensor, fixedwing_mag_sensor, fixedwing_model, initial_state, run_fixedwing_ekf
+from .estimate import (
+    FixedWingTuning,
+    complementary_attitude,
+    error_state_ukf,
+    estimate_fixedwing_attitude,
+    fixedwing_measurements,
+    initial_state,
+    multiplicative_ekf,
+    salmony_ekf,
+)
 from .model import (
     accel_jacobian,
     accel_model,
     airspeed_from_pressure,
     fixedwing_A,
+    fixedwing_accel_sensor,
+    fixedwing_error_model,
     fixedwing_f,
+    fixedwing_mag_sensor,
+    fixedwing_model,
     lowpass2,
     mag_jacobian,
     mag_model,
     quaternion_rate_matrix,
 )
-from .run import ESTIMATORS, run_estimator
-from .sim import FixedWingFlight, FixedWingNoise, FixedWingSamples, fixedwing_flight, fixedwing_samples
-from .ukf import ErrorStateUKF
+from .sim import FixedWingFlight, FixedWingNoise, fixedwing_flight, fixedwing_samples
 
 __all__ = [
-    "ESTIMATORS",
-    "ErrorStateUKF",
     "FixedWingFlight",
     "FixedWingNoise",
-    "FixedWingSamples",
+    "FixedWingTuning",
     "accel_jacobian",
     "accel_model",
     "airspeed_from_pressure",
+    "complementary_attitude",
+    "error_state_ukf",
+    "estimate_fixedwing_attitude",
     "fixedwing_A",
     "fixedwing_accel_sensor",
+    "fixedwing_error_model",
     "fixedwing_f",
     "fixedwing_flight",
     "fixedwing_mag_sensor",
+    "fixedwing_measurements",
     "fixedwing_model",
     "fixedwing_samples",
     "initial_state",
     "lowpass2",
     "mag_jacobian",
     "mag_model",
+    "multiplicative_ekf",
     "quaternion_rate_matrix",
-    "run_estimator",
-    "run_fixedwing_ekf",
+    "salmony_ekf",
 ]

@@ -10,16 +10,17 @@ rates from consecutive attitudes, and the accelerometer's specific force from eq
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 
 from quadlib.constants import G0, GRAVITY_N, earth_field_ned
 from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
-from quadlib.quad.flight import _min_jerk
+from quadlib.imu import ImuLog, ImuNoise
+from quadlib.sim.imu import imu_samples
+from quadlib.sim.trajectories import min_jerk
 from quadlib.validation import as_positive, as_rng
 
-__all__ = ["FixedWingFlight", "FixedWingNoise", "FixedWingSamples", "fixedwing_flight", "fixedwing_samples"]
+__all__ = ["FixedWingFlight", "FixedWingNoise", "fixedwing_flight", "fixedwing_samples"]
 
 
 
@@ -43,7 +44,7 @@ def _blend(t, changes):
     """A profile that moves between values with minimum-jerk blends: ``changes`` = [(t0, t1, Δ), …]."""
     out = np.zeros_like(t)
     for t0, t1, delta in changes:
-        out += delta * _min_jerk((t - t0) / (t1 - t0))[0]
+        out += delta * min_jerk((t - t0) / (t1 - t0))[0]
     return out
 
 
@@ -69,38 +70,28 @@ def fixedwing_flight(rate_hz: float = 100.0, airspeed_m_s: float = 20.0) -> Fixe
 
 
 @dataclass(frozen=True)
-class FixedWingNoise:
-    """Sensor errors per sample (at the flight's rate) and the Earth's field."""
+class FixedWingNoise(ImuNoise):
+    """The fixed-wing flight's sensor errors per sample (at the flight's rate) and the Earth's field.
+
+    Besides :class:`~quadlib.imu.ImuNoise`'s fields (here ``mag_sigma`` is on the unit field vector):
+    ``airspeed_sigma_m_s`` [m/s], ``declination_rad`` and ``inclination_rad`` of the field [rad].
+    """
 
     gyro_sigma_rad_s: float = 0.005
     gyro_bias_rad_s: tuple = (0.02, -0.015, 0.01)
     gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
     accel_sigma_m_s2: float = 0.15
-    mag_sigma: float = 0.01  # on the unit vector
+    mag_sigma: float = 0.01
     airspeed_sigma_m_s: float = 0.3
     declination_rad: float = field(default=float(np.radians(3.0)))
     inclination_rad: float = field(default=float(np.radians(65.0)))
 
 
-class FixedWingSamples(NamedTuple):
-    """Gyro [rad/s], accelerometer [m/s²], unit magnetometer vector, airspeed [m/s], all per sample."""
-
-    gyro: np.ndarray
-    accel: np.ndarray
-    mag: np.ndarray
-    airspeed: np.ndarray
-
-
-def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> FixedWingSamples:
-    """Sensor samples of ``flight``: gyro with bias and bias random walk, accelerometer, unit
-    magnetometer (declination and inclination), pitot airspeed."""
+def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> ImuLog:
+    """Sensor samples of ``flight``: gyro with bias and bias random walk, accelerometer, the
+    magnetometer as a unit vector (declination and inclination), and pitot airspeed."""
     rng = as_rng(rng)
-    n = flight.t.size
-    walk = np.cumsum(rng.normal(0.0, noise.gyro_bias_walk_rad_s_sqrt_s * np.sqrt(flight.dt), (n, 3)), axis=0)
-    gyro = flight.omega_b + np.asarray(noise.gyro_bias_rad_s) + walk + rng.normal(0.0, noise.gyro_sigma_rad_s, (n, 3))
-    accel = flight.f_b + rng.normal(0.0, noise.accel_sigma_m_s2, (n, 3))
-    m_n = earth_field_ned(1.0, noise.inclination_rad, noise.declination_rad)
-    mag = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb), m_n) + rng.normal(0.0, noise.mag_sigma, (n, 3))
-    mag /= np.linalg.norm(mag, axis=1, keepdims=True)
-    airspeed = flight.airspeed + rng.normal(0.0, noise.airspeed_sigma_m_s, n)
-    return FixedWingSamples(gyro, accel, mag, airspeed)
+    log = imu_samples(flight, noise, rng, field_n=earth_field_ned(1.0, noise.inclination_rad, noise.declination_rad))
+    mag = log.mag / np.linalg.norm(log.mag, axis=1, keepdims=True)
+    airspeed = flight.airspeed + rng.normal(0.0, noise.airspeed_sigma_m_s, flight.t.size)
+    return ImuLog(log.t, log.gyro, log.accel, mag, airspeed)

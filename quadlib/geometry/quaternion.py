@@ -13,30 +13,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array
+from quadlib.validation import as_finite_array, as_quaternions, as_vectors3
 
 __all__ = ["body_rates_between", "integrate_body_rate", "integrate_body_rate_linear", "quat_canonical",
            "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize",
            "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
 
 
-def _quat(name: str, q) -> np.ndarray:
-    q = as_finite_array(name, q)
-    if q.ndim == 0 or q.shape[-1] != 4:
-        raise ValueError(f"{name}: expected shape (..., 4) scalar-first quaternions, got {q.shape}")
-    return q
-
-
-def _vec3(name: str, v) -> np.ndarray:
-    v = as_finite_array(name, v)
-    if v.ndim == 0 or v.shape[-1] != 3:
-        raise ValueError(f"{name}: expected shape (..., 3), got {v.shape}")
-    return v
-
-
 def quat_multiply(p, q) -> np.ndarray:
     """Hamilton product ``p ⊗ q`` (Kesten eq. 1.4): first rotate by ``q``, then by ``p``."""
-    p, q = _quat("p", p), _quat("q", q)
+    p, q = as_quaternions("p", p), as_quaternions("q", q)
     pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
     qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     out = np.empty(np.broadcast_shapes(p.shape, q.shape))
@@ -49,12 +35,12 @@ def quat_multiply(p, q) -> np.ndarray:
 
 def quat_conjugate(q) -> np.ndarray:
     """``[w, -x, -y, -z]``: the inverse rotation of a unit quaternion."""
-    return _quat("q", q) * np.array([1.0, -1.0, -1.0, -1.0])
+    return as_quaternions("q", q) * np.array([1.0, -1.0, -1.0, -1.0])
 
 
 def quat_normalize(q) -> np.ndarray:
     """Scale to unit norm; a zero quaternion is refused."""
-    q = _quat("q", q)
+    q = as_quaternions("q", q)
     norm = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(norm < 1e-12):
         raise ValueError("q: expected non-zero quaternions, got one with norm < 1e-12")
@@ -63,13 +49,13 @@ def quat_normalize(q) -> np.ndarray:
 
 def quat_canonical(q) -> np.ndarray:
     """The representative with ``w >= 0`` of ``±q`` (the same rotation)."""
-    q = _quat("q", q)
+    q = as_quaternions("q", q)
     return np.where(q[..., :1] < 0.0, -q, q)
 
 
 def quat_from_rotvec(v) -> np.ndarray:
     """Quaternion of the rotation by angle ``|v|`` about ``v / |v|`` (Kesten eq. 1.8)."""
-    v = _vec3("v", v)
+    v = as_vectors3("v", v)
     angle = np.sqrt(np.sum(v * v, axis=-1))
     # sin(a/2)/a, with its Taylor series where a is tiny
     half_sinc = np.where(angle > 1e-8, np.sin(0.5 * angle) / np.where(angle > 1e-8, angle, 1.0), 0.5 - angle**2 / 48.0)
@@ -92,7 +78,7 @@ def quat_to_rotvec(q) -> np.ndarray:
 
 def quat_to_dcm(q) -> np.ndarray:
     """Rotation matrix ``R(q)``, ``(..., 3, 3)``, for unit ``q`` (``v' = R v``)."""
-    q = _quat("q", q)
+    q = as_quaternions("q", q)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     R = np.empty(q.shape[:-1] + (3, 3))
     R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
@@ -127,7 +113,7 @@ def quat_from_dcm(R) -> np.ndarray:
 
 def quat_rotate(q, v) -> np.ndarray:
     """Rotate vectors: ``R(q) v`` (Kesten eq. 1.11, ``q ⊗ [0, v] ⊗ q*``)."""
-    return np.einsum("...ij,...j->...i", quat_to_dcm(q), _vec3("v", v))
+    return np.einsum("...ij,...j->...i", quat_to_dcm(q), as_vectors3("v", v))
 
 
 def quat_from_euler(roll, pitch, yaw) -> np.ndarray:
@@ -146,7 +132,7 @@ def quat_to_euler(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     At pitch ±90° (gimbal lock) roll and yaw are not separable; the yaw returned is then the
     combination that reproduces the rotation with roll = 0.
     """
-    w, x, y, z = np.moveaxis(_quat("q", q), -1, 0)
+    w, x, y, z = np.moveaxis(as_quaternions("q", q), -1, 0)
     sin_pitch = np.clip(2.0 * (w * y - x * z), -1.0, 1.0)
     roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
     yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
@@ -163,7 +149,7 @@ def integrate_body_rate_linear(q, omega_b, dt: float) -> np.ndarray:
     Not a unit quaternion: its norm grows by ``√(1 + |ω Δt|²/4)`` per step, so filters using it
     renormalise.
     """
-    omega = _vec3("omega_b", omega_b) * (0.5 * float(dt))
+    omega = as_vectors3("omega_b", omega_b) * (0.5 * float(dt))
     return quat_multiply(q, np.concatenate([np.ones(omega.shape[:-1] + (1,)), omega], axis=-1))
 
 
@@ -175,13 +161,13 @@ def integrate_body_rate(q, omega_b, dt: float) -> np.ndarray:
     Kesten eq. (2.7). Body rates multiply on the *right* of ``q_nb``. Differs from the source: Tellex eq. (43)
     multiplies on the left, as in Diebel's convention where the quaternion maps global to body.
     """
-    return quat_multiply(q, quat_from_rotvec(_vec3("omega_b", omega_b) * float(dt)))
+    return quat_multiply(q, quat_from_rotvec(as_vectors3("omega_b", omega_b) * float(dt)))
 
 
 def body_rates_between(q_nb, dt: float) -> np.ndarray:
     """Body rates ``(N, 3)`` [rad/s] that turn each attitude of ``q_nb`` ``(N, 4)`` into the next in
     ``dt`` [s] at a constant rate (the inverse of :func:`integrate_body_rate`); the last row repeats
     the one before it."""
-    q = _quat("q_nb", q_nb)
+    q = as_quaternions("q_nb", q_nb)
     omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / float(dt)
     return np.vstack([omega, omega[-1:]])

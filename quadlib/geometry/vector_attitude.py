@@ -12,8 +12,6 @@ from typing import NamedTuple
 import numpy as np
 
 from quadlib.geometry.quaternion import (
-    _quat,
-    _vec3,
     quat_canonical,
     quat_conjugate,
     quat_from_dcm,
@@ -22,7 +20,7 @@ from quadlib.geometry.quaternion import (
     quat_normalize,
     quat_to_rotvec,
 )
-from quadlib.validation import as_finite_array, as_positive
+from quadlib.validation import as_finite_array, as_positive, as_quaternions, as_vectors3
 
 __all__ = ["AbsoluteAttitude", "attitude_from_accel_mag", "average_geodesic", "average_quaternion",
            "average_rotvec"]
@@ -89,7 +87,7 @@ def _weights(w1, w2):
 def average_rotvec(theta1, theta2, w1=0.5, w2=0.5) -> np.ndarray:
     """Kesten eq. (2.10): weighted mean of two orientation vectors (exact only when they are parallel)."""
     w1, w2 = _weights(w1, w2)
-    t1, t2 = _vec3("theta1", theta1), _vec3("theta2", theta2)
+    t1, t2 = as_vectors3("theta1", theta1), as_vectors3("theta2", theta2)
     return (w1[..., None] * t1 + w2[..., None] * t2) / (w1 + w2)[..., None]
 
 
@@ -100,7 +98,7 @@ def average_quaternion(q1, q2, w1=0.5, w2=0.5) -> np.ndarray:
     used as given.
     """
     w1, w2 = _weights(w1, w2)
-    q1, q2 = _quat("q1", q1), _quat("q2", q2)
+    q1, q2 = as_quaternions("q1", q1), as_quaternions("q2", q2)
     return quat_normalize(w1[..., None] * q1 + w2[..., None] * q2)
 
 
@@ -108,7 +106,7 @@ def average_geodesic(q1, q2, w1=0.5, w2=0.5) -> np.ndarray:
     """Kesten eqs. (2.13)–(2.16): the attitude on the shortest rotation from ``q1`` to ``q2``, a
     fraction ``w2/(w1 + w2)`` of the way — it minimises ``w1 θ1 + w2 θ2`` (eq. 2.9)."""
     w1, w2 = _weights(w1, w2)
-    q1, q2 = _quat("q1", q1), _quat("q2", q2)
+    q1, q2 = as_quaternions("q1", q1), as_quaternions("q2", q2)
     theta_delta = quat_to_rotvec(quat_canonical(quat_multiply(quat_conjugate(q1), q2)))  # eqs. (2.14), shortest
     k = (w2 / (w1 + w2))[..., None]  # eq. (2.15)
     return quat_multiply(q1, quat_from_rotvec(k * theta_delta))  # eq. (2.16)

@@ -7,7 +7,9 @@ follow from consecutive attitudes, and the accelerometer reads the specific forc
 y component: the accelerometer only "sees" tilt when the vehicle does not accelerate.
 
 Sensor noise defaults follow the course simulator the Tellex document was written for
-(:class:`SensorNoise3D`, all in one place). Every random draw comes from the ``rng`` argument.
+(:class:`SensorNoise3D`, all in one place). The IMU is sampled by :func:`quadlib.sim.imu_samples`
+(a flight has the attributes it reads); GPS, magnetometer and barometer here. Every random draw
+comes from the ``rng`` argument.
 """
 
 from __future__ import annotations
@@ -20,10 +22,12 @@ import numpy as np
 from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
 from quadlib.geometry.rotations import dcm_to_euler, wrap_angle
+from quadlib.imu import ImuNoise
+from quadlib.sim.trajectories import min_jerk
 from quadlib.validation import as_positive, as_rng
 
 __all__ = ["Flight3D", "Samples", "SensorNoise3D", "baro_samples", "figure_eight", "flight_from_path",
-           "gps_samples", "imu_samples", "mag_field_samples", "mag_yaw_samples", "square_course"]
+           "gps_samples", "mag_field_samples", "mag_yaw_samples", "square_course"]
 
 
 
@@ -84,12 +88,6 @@ def flight_from_path(t, pos, vel, acc, yaw) -> Flight3D:
                     omega_b=omega, f_b=f_b)
 
 
-def _min_jerk(s):
-    """Minimum-jerk blend on s ∈ [0, 1] and its first two derivatives (zero at both ends)."""
-    s = np.clip(s, 0.0, 1.0)
-    return 10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4, 60 * s - 180 * s**2 + 120 * s**3
-
-
 def _time_grid(duration_s: float, rate_hz: float) -> np.ndarray:
     n = int(round(duration_s * rate_hz))
     return np.arange(n + 1) / rate_hz
@@ -113,7 +111,7 @@ def square_course(side_m: float = 10.0, altitude_m: float = 3.0, leg_s: float = 
     for i in range(4):
         t_leg, t_turn = i * (leg + turn), i * (leg + turn) + leg
         on_leg = (t >= t_leg) & (t < t_turn)
-        s0, s1, s2 = _min_jerk((t[on_leg] - t_leg) / leg)
+        s0, s1, s2 = min_jerk((t[on_leg] - t_leg) / leg)
         delta = corners[i + 1] - corners[i]
         pos[on_leg, :2] = corners[i] + np.outer(s0, delta)
         vel[on_leg, :2] = np.outer(s1 / leg, delta)
@@ -121,7 +119,7 @@ def square_course(side_m: float = 10.0, altitude_m: float = 3.0, leg_s: float = 
         yaw[on_leg] = i * np.pi / 2
         after = t >= t_turn
         pos[after, :2] = corners[i + 1]
-        yaw[after] = i * np.pi / 2 + _min_jerk((t[after] - t_turn) / turn)[0] * np.pi / 2
+        yaw[after] = i * np.pi / 2 + min_jerk((t[after] - t_turn) / turn)[0] * np.pi / 2
     return flight_from_path(t, pos, vel, acc, yaw)
 
 
@@ -141,24 +139,24 @@ def figure_eight(width_m: float = 20.0, period_s: float = 20.0, altitude_m: floa
 
 
 @dataclass(frozen=True)
-class SensorNoise3D:
+class SensorNoise3D(ImuNoise):
     """Sensor rates and noise of the 3D simulator (σ per sample; the course simulator's values).
 
-    IMU samples come at the flight's rate (500 Hz by default).
+    IMU samples come at the flight's rate (500 Hz by default); ``mag_sigma`` is per axis of the
+    three-axis magnetometer [G]. Besides :class:`~quadlib.imu.ImuNoise`'s fields: GPS position and
+    velocity, magnetometer heading, barometer (rates [Hz] and σ), the field's strength [G] and dip [rad].
     """
 
-    accel_sigma_m_s2: tuple = (0.5, 0.5, 1.5)
     gyro_sigma_rad_s: float = 0.5
-    gyro_bias_rad_s: tuple = (0.0, 0.0, 0.0)
-    gyro_bias_walk_rad_s_sqrt_s: float = 0.0
+    accel_sigma_m_s2: tuple = (0.5, 0.5, 1.5)
+    mag_sigma: float = 0.01
     gps_rate_hz: float = 10.0
     gps_pos_sigma_m: tuple = (0.7, 0.7, 2.0)
     gps_vel_sigma_m_s: tuple = (0.1, 0.1, 0.3)
     mag_rate_hz: float = 100.0
     mag_yaw_sigma_rad: float = 0.1
-    mag_field_gauss: float = 0.5
-    mag_inclination_rad: float = field(default=float(np.radians(60.0)))
-    mag_axis_sigma_gauss: float = 0.01
+    field_gauss: float = 0.5
+    inclination_rad: float = field(default=float(np.radians(60.0)))
     baro_rate_hz: float = 25.0
     baro_sigma_m: float = 0.5
 
@@ -175,21 +173,6 @@ def _every(flight: Flight3D, rate_hz: float) -> np.ndarray:
     if step < 1:
         raise ValueError(f"rate_hz: expected at most the flight's rate {1 / flight.dt:g} Hz, got {rate_hz}")
     return np.arange(0, flight.t.size, step)
-
-
-def imu_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> tuple[Samples, Samples]:
-    """Accelerometer (specific force) and gyro samples at every flight sample.
-
-    The gyro reads ``omega_b + bias + white noise``; the bias starts at ``gyro_bias_rad_s`` and
-    random-walks with ``gyro_bias_walk_rad_s_sqrt_s`` [rad/s/√s].
-    """
-    rng = as_rng(rng)
-    n = flight.t.size
-    accel = flight.f_b + rng.standard_normal((n, 3)) * np.asarray(noise.accel_sigma_m_s2, dtype=float)
-    walk = rng.standard_normal((n, 3)) * noise.gyro_bias_walk_rad_s_sqrt_s * np.sqrt(flight.dt)
-    bias = np.asarray(noise.gyro_bias_rad_s, dtype=float) + np.cumsum(walk, axis=0)
-    gyro = flight.omega_b + bias + rng.standard_normal((n, 3)) * noise.gyro_sigma_rad_s
-    return Samples(flight.t, accel), Samples(flight.t, gyro)
 
 
 def gps_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
@@ -210,10 +193,8 @@ def mag_yaw_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
 def mag_field_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
     """Three-axis magnetometer [gauss] in the body frame; the field points north and down (dip)."""
     k = _every(flight, noise.mag_rate_hz)
-    inc = noise.mag_inclination_rad
-    m_n = earth_field_ned(noise.mag_field_gauss, inc)
-    m_b = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb[k]), m_n)
-    return Samples(flight.t[k], m_b + as_rng(rng).standard_normal(m_b.shape) * noise.mag_axis_sigma_gauss)
+    m_b = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb[k]), earth_field_ned(noise.field_gauss, noise.inclination_rad))
+    return Samples(flight.t[k], m_b + as_rng(rng).standard_normal(m_b.shape) * noise.mag_sigma)
 
 
 def baro_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:

@@ -19,11 +19,11 @@ from quadlib.quad.flight import (
     SensorNoise3D,
     baro_samples,
     gps_samples,
-    imu_samples,
     mag_yaw_samples,
 )
 from quadlib.quad.quad3d import imu_inputs
 from quadlib.replay import Measurements
+from quadlib.sim.imu import imu_samples
 
 __all__ = ["Run3D", "run3d_measurements", "simulate_run3d"]
 
@@ -63,12 +63,12 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     ``tau`` is the complementary filter's time constant [s]; ``true_attitude=True`` feeds the
     model the true roll and pitch instead (an oracle, to separate the attitude's share of the error).
     """
-    accel, gyro = imu_samples(flight, noise, rng)
+    imu = imu_samples(flight, noise, rng)
     gps, mag = gps_samples(flight, noise, rng), mag_yaw_samples(flight, noise, rng)
     baro = baro_samples(flight, noise, rng)
-    cf = euler_rate_complementary(flight.dt, gyro.z, accel.z, tau)
+    cf = euler_rate_complementary(flight.dt, imu.gyro, imu.accel, tau)
     attitude = flight.euler[:, :2] if true_attitude else cf
-    u = imu_inputs(flight.dt, accel.z, gyro.z, attitude, decimate=decimate)
+    u = imu_inputs(flight.dt, imu.accel, imu.gyro, attitude, decimate=decimate)
     k = np.arange(u.shape[0]) * decimate
     t = flight.t[k]
     truth = np.column_stack([flight.pos[k], flight.vel[k], flight.euler[k, 2]])

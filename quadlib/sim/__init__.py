@@ -1,12 +1,17 @@
 """Simulation shared by every vehicle: model stepping, sensor sampling, trajectories, IMU samples."""
 
+from .imu import BodyMotion, imu_samples, specific_force_at_rest
 from .simulate import sample_sensor, simulate_model, with_dropouts, with_outliers
-from .trajectories import piecewise_constant, step_profile
+from .trajectories import min_jerk, piecewise_constant, step_profile
 
 __all__ = [
+    "BodyMotion",
+    "imu_samples",
+    "min_jerk",
     "piecewise_constant",
     "sample_sensor",
     "simulate_model",
+    "specific_force_at_rest",
     "step_profile",
     "with_dropouts",
     "with_outliers",

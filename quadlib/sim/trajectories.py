@@ -6,7 +6,7 @@ import numpy as np
 
 from quadlib.validation import as_finite_array
 
-__all__ = ["piecewise_constant", "step_profile"]
+__all__ = ["min_jerk", "piecewise_constant", "step_profile"]
 
 
 def step_profile(t, t_step: float, before: float, after: float) -> np.ndarray:
@@ -57,3 +57,10 @@ def piecewise_constant(t, breakpoints, values) -> np.ndarray:
         raise ValueError(f"breakpoints: expected strictly increasing times, got {b.tolist()}")
     i = np.searchsorted(b, t, side="right") - 1
     return np.where(i >= 0, v[np.clip(i, 0, None)], 0.0)
+
+
+def min_jerk(s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Minimum-jerk blend on ``s`` ∈ [0, 1] and its first two derivatives with respect to ``s``
+    (all zero at both ends): ``10 s³ − 15 s⁴ + 6 s⁵``. Values outside [0, 1] are clipped."""
+    s = np.clip(np.asarray(s, dtype=float), 0.0, 1.0)
+    return 10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4, 60 * s - 180 * s**2 + 120 * s**3

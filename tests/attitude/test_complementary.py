@@ -8,21 +8,22 @@ from quadlib.attitude.complementary import (
     nonlinear_complementary,
 )
 from quadlib.geometry.rotations import accel_tilt
-from quadlib.quad.flight import SensorNoise3D, figure_eight, imu_samples, square_course
+from quadlib.quad.flight import SensorNoise3D, figure_eight, square_course
+from quadlib.sim.imu import imu_samples
 
 SQUARE = square_course(leg_s=3.0, turn_s=1.0, rate_hz=250.0)
 
 
 def test_linear_filter_is_eqs_41_42_written_as_a_loop():
-    accel, gyro = imu_samples(SQUARE, SensorNoise3D(), np.random.default_rng(2))
+    imu = imu_samples(SQUARE, SensorNoise3D(), np.random.default_rng(2))
     dt, tau = SQUARE.dt, 0.5
     a = tau / (tau + dt)
-    tilt = np.column_stack(accel_tilt(accel.z))
+    tilt = np.column_stack(accel_tilt(imu.accel))
     expected = np.empty_like(tilt)
     expected[0] = tilt[0]
     for k in range(1, len(tilt)):
-        expected[k] = a * (expected[k - 1] + dt * gyro.z[k - 1, :2]) + (1 - a) * tilt[k]
-    np.testing.assert_allclose(linear_complementary(dt, gyro.z, accel.z, tau), expected, atol=1e-12)
+        expected[k] = a * (expected[k - 1] + dt * imu.gyro[k - 1, :2]) + (1 - a) * tilt[k]
+    np.testing.assert_allclose(linear_complementary(dt, imu.gyro, imu.accel, tau), expected, atol=1e-12)
 
 
 def test_with_a_perfect_gyro_and_no_accelerometer_weight_the_filters_integrate():
@@ -39,15 +40,15 @@ def test_with_a_perfect_gyro_and_no_accelerometer_weight_the_filters_integrate()
 
 def test_complementary_beats_gyro_only_and_accelerometer_only_in_slow_flight():
     flight = square_course(leg_s=8.0, turn_s=2.0, rate_hz=250.0)
-    accel, gyro = imu_samples(flight, SensorNoise3D(), np.random.default_rng(4))
+    imu = imu_samples(flight, SensorNoise3D(), np.random.default_rng(4))
     truth = flight.euler[:, :2]
 
     def rms(est):
         return np.sqrt(np.mean((est - truth) ** 2))
 
-    accel_only = rms(np.column_stack(accel_tilt(accel.z)))
-    gyro_only = rms(euler_rate_complementary(flight.dt, gyro.z, accel.z, 1e12))
-    blended = rms(euler_rate_complementary(flight.dt, gyro.z, accel.z, 1.0))
+    accel_only = rms(np.column_stack(accel_tilt(imu.accel)))
+    gyro_only = rms(euler_rate_complementary(flight.dt, imu.gyro, imu.accel, 1e12))
+    blended = rms(euler_rate_complementary(flight.dt, imu.gyro, imu.accel, 1.0))
     assert blended < 0.75 * min(accel_only, gyro_only)
 
 

@@ -1,0 +1,174 @@
+"""Fixed-wing attitude estimators on an IMU log, all driven by :func:`quadlib.run_filter`.
+
+Three filters share the sensors of :mod:`quadlib.fixedwing.model`:
+
+* :func:`salmony_ekf` — Salmony's EKF: additive over ``[q, b]``, Euler step, renormalised (§6–8);
+* :func:`multiplicative_ekf` — the same sensors on the error-state model (exact gyro step,
+  ``q ⊗ exp(δθ)``, a 6 × 6 covariance);
+* :func:`error_state_ukf` — the error-state model in a UKF: sigma points in ``[δθ, δb]``.
+
+:func:`fixedwing_measurements` turns a log into the samples each sensor sees, with Salmony's
+failure handling (§8.3) as data: a sample with an airspeed goes to ``accel``, one without to
+``accel (no airspeed)``, a NaN magnetometer row is a missing sample. :func:`estimate_fixedwing_attitude`
+does all of it in one call with chapter 12's tuning.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.attitude.complementary import euler_rate_complementary
+from quadlib.filters import ModelEKF, ModelUKF
+from quadlib.fixedwing.model import (
+    fixedwing_accel_sensor,
+    fixedwing_error_model,
+    fixedwing_mag_sensor,
+    fixedwing_model,
+    lowpass2,
+)
+from quadlib.fixedwing.sim import FixedWingNoise
+from quadlib.geometry.rotations import mag_heading
+from quadlib.geometry.vector_attitude import attitude_from_accel_mag
+from quadlib.imu import ImuLog
+from quadlib.model import Sensor
+from quadlib.replay import FilterRun, Measurements, run_filter
+from quadlib.validation import as_positive
+
+__all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
+           "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
+
+
+@dataclass(frozen=True)
+class FixedWingTuning:
+    """Chapter 12's tuning of the fixed-wing filters.
+
+    Parameters
+    ----------
+    quaternion_sigma0 : float
+        Initial σ of each quaternion component in Salmony's EKF (dimensionless; 0.1 ≈ 0.2 rad).
+    attitude_sigma0_rad : float
+        Initial σ of the attitude error of the error-state filters [rad].
+    bias_sigma0_rad_s : float
+        Initial σ of each gyro bias [rad/s] (after the §8.1 initialisation).
+    unmodelled_m_s2 : float
+        Added to the accelerometer's σ when the airspeed is missing: the centripetal acceleration
+        the model can no longer predict [m/s²] (3 m/s² ≈ a 20 m/s aircraft turning at 9°/s).
+    n_still : int
+        Samples averaged for the initial state (§8.1), from an unaccelerated, non-rotating stretch.
+    """
+
+    quaternion_sigma0: float = 0.1
+    attitude_sigma0_rad: float = 0.05
+    bias_sigma0_rad_s: float = 0.02
+    unmodelled_m_s2: float = 3.0
+    n_still: int = 50
+
+
+def _process_noise(noise: FixedWingNoise) -> tuple[float, float]:
+    # a filter needs some bias walk and some magnetometer noise even when the simulation has none
+    return noise.gyro_sigma_rad_s, max(noise.gyro_bias_walk_rad_s_sqrt_s, 1e-6)
+
+
+def salmony_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
+    """Salmony's EKF (:func:`~quadlib.fixedwing.model.fixedwing_model`) at ``x0 = [q, b]``."""
+    P0 = np.diag([tuning.quaternion_sigma0**2] * 4 + [tuning.bias_sigma0_rad_s**2] * 3)
+    return ModelEKF(fixedwing_model(*_process_noise(noise)), x0, P0, dt)
+
+
+def _error_state_P0(tuning: FixedWingTuning) -> np.ndarray:
+    return np.diag([tuning.attitude_sigma0_rad**2] * 3 + [tuning.bias_sigma0_rad_s**2] * 3)
+
+
+def multiplicative_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
+    """The error-state model (:func:`~quadlib.fixedwing.model.fixedwing_error_model`) in an EKF."""
+    return ModelEKF(fixedwing_error_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+
+
+def error_state_ukf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelUKF:
+    """The error-state model in a UKF (default sigma points, α = 0.5)."""
+    return ModelUKF(fixedwing_error_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+
+
+def initial_state(log: ImuLog, n_still: int) -> np.ndarray:
+    """§8.1: the gyro bias as the mean of the first ``n_still`` gyro samples, the attitude from their
+    mean accelerometer and magnetometer vectors. The samples must come from an unaccelerated,
+    non-rotating stretch: at rest, or in steady straight and level flight."""
+    if isinstance(n_still, bool) or not isinstance(n_still, (int, np.integer)) or n_still < 1:
+        raise ValueError(f"n_still: expected an int >= 1, got {n_still!r}")
+    if log.mag is None:
+        raise ValueError("log.mag: expected magnetometer samples for the initial heading, got None")
+    att = attitude_from_accel_mag(log.accel[:n_still].mean(axis=0)[None], log.mag[:n_still].mean(axis=0)[None])
+    return np.concatenate([att.q_nb[0], log.gyro[:n_still].mean(axis=0)])
+
+
+def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sensor,
+                           unmodelled_m_s2: float = 3.0, prefilter_hz: float | None = None) -> list[Measurements]:
+    """The samples of the two accelerometer models and the magnetometer, for :func:`run_filter`.
+
+    Each accelerometer sample carries its gyro rates (and airspeed) as context. Where the airspeed
+    is NaN the sample goes to the no-airspeed model instead (§8.3). ``prefilter_hz`` low-passes the
+    accelerometer and magnetometer first (eqs. 7–8).
+    """
+    if not isinstance(log, ImuLog):
+        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    if log.airspeed is None or log.mag is None:
+        raise ValueError("log: expected magnetometer and airspeed samples (NaN where missing), got None")
+    accel, mag = log.accel, log.mag
+    if prefilter_hz is not None:
+        dt = float(log.t[1] - log.t[0])
+        accel, mag = lowpass2(accel, prefilter_hz, dt), lowpass2(np.nan_to_num(mag), prefilter_hz, dt)
+        mag[np.isnan(log.mag).any(axis=1)] = np.nan
+    no_airspeed = np.isnan(log.airspeed)
+    with_va = np.where(no_airspeed[:, None], np.nan, accel)
+    without_va = np.where(no_airspeed[:, None], accel, np.nan)
+    return [Measurements(fixedwing_accel_sensor(accel_sigma_m_s2), log.t, with_va,
+                         context=np.column_stack([log.gyro, log.airspeed])),
+            Measurements(fixedwing_accel_sensor(accel_sigma_m_s2, unmodelled_m_s2), log.t, without_va,
+                         context=log.gyro),
+            Measurements(mag_sensor, log.t, mag)]
+
+
+def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNoise(), filter_factory=salmony_ekf,
+                                inclination_rad: float | None = None, prefilter_hz: float | None = None,
+                                tuning: FixedWingTuning = FixedWingTuning()) -> FilterRun:
+    """Attitude and gyro bias of a fixed-wing aircraft from its IMU, magnetometer and airspeed, in one call.
+
+    Parameters
+    ----------
+    log : ImuLog
+        With ``mag`` (unit vector or any unit; it is compared as a direction) and ``airspeed``; NaN
+        rows are missing samples. The first ``tuning.n_still`` samples initialise the filter.
+    noise : FixedWingNoise
+        The sensors' noise and the field's declination and inclination.
+    filter_factory : callable
+        :func:`salmony_ekf` (default), :func:`multiplicative_ekf` or :func:`error_state_ukf`.
+    inclination_rad : float, optional
+        The dip the magnetometer model assumes (default ``noise.inclination_rad``; 0 is the
+        document's horizontal field).
+    prefilter_hz : float, optional
+        Cut-off of Salmony's second-order prefilter; none by default.
+    tuning : FixedWingTuning
+
+    Returns
+    -------
+    FilterRun
+        ``x`` is ``[q_nb, b]`` (N, 7) for every filter.
+    """
+    dt = float(log.t[1] - log.t[0])
+    filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)
+    incl = noise.inclination_rad if inclination_rad is None else float(inclination_rad)
+    mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
+    return run_filter(filt, log.t, log.gyro, fixedwing_measurements(log, noise.accel_sigma_m_s2, mag,
+                                                                    tuning.unmodelled_m_s2, prefilter_hz))
+
+
+def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:
+    """Chapter 7's Euler-rate complementary filter for roll and pitch (time constant ``tau_s`` [s])
+    and the tilt-compensated magnetometer heading for yaw: no bias estimate, no airspeed.
+    Returns roll, pitch, yaw ``(N, 3)`` [rad]."""
+    dt = float(log.t[1] - log.t[0])
+    roll_pitch = euler_rate_complementary(dt, log.gyro, log.accel, as_positive("tau_s", tau_s))
+    yaw = mag_heading(np.where(np.isnan(log.mag), 0.0, log.mag), roll_pitch[:, 0], roll_pitch[:, 1], declination_rad)
+    return np.column_stack([roll_pitch, yaw])

@@ -1,0 +1,109 @@
+"""IMU logs and IMU noise: one container and one noise description for every simulator and estimator.
+
+:class:`ImuLog` holds what a strapdown IMU reports on one time grid — gyro, accelerometer and,
+where there is one, a magnetometer and an airspeed sensor — in the project's conventions: body
+frame FRD, gyro in rad/s, accelerometer as specific force in m/s² (about ``(0, 0, −g₀)`` level
+and at rest). A sensor that has no sample at a time has a row of NaN there (a lower rate, a
+dropout). Simulators return it, the estimators' one-call entry points take it, and the loaders of
+real logs return it too.
+
+:class:`ImuNoise` names every IMU error once, each field with its unit. Simulators draw from it;
+estimators derive their process and measurement noise from it. A scenario that needs more (GPS,
+airspeed, the Earth's field) extends it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.validation import as_times
+
+__all__ = ["ImuLog", "ImuNoise"]
+
+
+@dataclass(frozen=True)
+class ImuNoise:
+    """IMU errors per sample (at the IMU's own rate).
+
+    Parameters
+    ----------
+    gyro_sigma_rad_s : float
+        White noise of one gyro sample, per axis [rad/s].
+    gyro_bias_rad_s : (3,) tuple
+        Gyro bias at the start [rad/s] (simulators draw it; estimators do not know it).
+    gyro_bias_walk_rad_s_sqrt_s : float
+        Random walk of the gyro bias [rad/s/√s]: after ``T`` seconds its σ is this times √T.
+    accel_sigma_m_s2 : float or (3,) tuple
+        White noise of one accelerometer sample [m/s²], one value or one per axis.
+    mag_sigma : float
+        White noise of one magnetometer sample, per axis, in the unit of the field the
+        magnetometer reports (gauss, µT, or 1 for a unit vector).
+    """
+
+    gyro_sigma_rad_s: float = 0.005
+    gyro_bias_rad_s: tuple = (0.0, 0.0, 0.0)
+    gyro_bias_walk_rad_s_sqrt_s: float = 0.0
+    accel_sigma_m_s2: float | tuple = 0.15
+    mag_sigma: float = 0.01
+
+
+def _stream(name: str, value, n: int, width: int | None) -> np.ndarray | None:
+    if value is None:
+        return None
+    arr = np.asarray(value, dtype=float)
+    shape = (n,) if width is None else (n, width)
+    if arr.shape != shape:
+        raise ValueError(f"ImuLog.{name}: expected shape {shape}, got {arr.shape}")
+    if np.isinf(arr).any():
+        raise ValueError(f"ImuLog.{name}: expected finite values or NaN for missing, got inf")
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True)
+class ImuLog:
+    """IMU samples on one time grid (``N`` samples), body frame FRD; NaN rows are missing samples.
+
+    Parameters
+    ----------
+    t : (N,) array_like
+        Strictly increasing sample times [s].
+    gyro : (N, 3) array_like
+        Body rates [rad/s]; ``gyro[k]`` holds over ``[t[k], t[k+1])``.
+    accel : (N, 3) array_like
+        Specific force ``R_nbᵀ (a_n − g_n)`` [m/s²].
+    mag : (N, 3) array_like, optional
+        Magnetic field in the body frame (any unit; the estimator's reference field uses the same).
+    airspeed : (N,) array_like, optional
+        Airspeed along body x [m/s] (fixed-wing aircraft).
+    """
+
+    t: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+    mag: np.ndarray | None = None
+    airspeed: np.ndarray | None = None
+
+    def __post_init__(self):
+        t = as_times("ImuLog.t", self.t)
+        t.setflags(write=False)
+        object.__setattr__(self, "t", t)
+        n = t.size
+        for name, width in (("gyro", 3), ("accel", 3), ("mag", 3), ("airspeed", None)):
+            object.__setattr__(self, name, _stream(name, getattr(self, name), n, width))
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    @property
+    def dt(self) -> np.ndarray:
+        """(N − 1,) sample periods [s]."""
+        return np.diff(self.t)
+
+    def slice(self, start: int | None = None, stop: int | None = None) -> ImuLog:
+        """The samples ``start:stop`` as a new log."""
+        s = slice(start, stop)
+        return ImuLog(self.t[s], self.gyro[s], self.accel[s], None if self.mag is None else self.mag[s],
+                      None if self.airspeed is None else self.airspeed[s])

@@ -1,0 +1,134 @@
+"""The fixed-wing estimators on run_filter: simulator truth, convergence, bias, sensor failures,
+the error-state model's Jacobians, and the one-call entry point."""
+
+import numpy as np
+import pytest
+
+from quadlib import ModelEKF, run_filter
+from quadlib.fixedwing.estimate import (
+    FixedWingTuning,
+    error_state_ukf,
+    estimate_fixedwing_attitude,
+    fixedwing_measurements,
+    initial_state,
+    multiplicative_ekf,
+    salmony_ekf,
+)
+from quadlib.fixedwing.model import fixedwing_error_model, fixedwing_mag_sensor, fixedwing_model
+from quadlib.fixedwing.sim import FixedWingNoise, fixedwing_flight, fixedwing_samples
+from quadlib.geometry.quaternion import integrate_body_rate, quat_canonical, quat_to_dcm, quat_to_euler
+from quadlib.geometry.rotations import wrap_angle
+from quadlib.imu import ImuLog
+
+FLIGHT = fixedwing_flight(rate_hz=50.0)
+NOISE = FixedWingNoise()
+LOG = fixedwing_samples(FLIGHT, NOISE, np.random.default_rng(12))
+
+
+def _euler_error_deg(x, flight=FLIGHT):
+    n = len(x)
+    return np.degrees(np.column_stack([wrap_angle(a - b) for a, b in zip(quat_to_euler(x[:, :4]), flight.euler[:n].T,
+                                                                        strict=True)]))
+
+
+def _run(log=LOG, inclination=NOISE.inclination_rad, factory=salmony_ekf, **kw):
+    run = estimate_fixedwing_attitude(log, NOISE, factory, inclination_rad=inclination, **kw)
+    return run, _euler_error_deg(run.x)
+
+
+def test_simulated_truth_is_consistent():
+    R = quat_to_dcm(FLIGHT.q_nb)
+    q = FLIGHT.q_nb[0]
+    for k in range(FLIGHT.t.size - 1):
+        q = integrate_body_rate(q, FLIGHT.omega_b[k], FLIGHT.dt)
+    np.testing.assert_allclose(quat_canonical(q), quat_canonical(FLIGHT.q_nb[-1]), atol=1e-8)
+    assert np.abs(FLIGHT.f_b[:, 1]).max() < 0.05  # coordinated turns: no sideways force
+    level = FLIGHT.t < 7.0
+    np.testing.assert_allclose(-np.einsum("nij,nj->ni", R[level], FLIGHT.f_b[level]),
+                               np.tile([0, 0, 9.80665], (level.sum(), 1)), atol=1e-6)
+
+
+def test_ekf_tracks_attitude_and_estimates_the_gyro_bias():
+    run, err = _run()
+    settled = FLIGHT.t > 5.0
+    assert np.sqrt(np.mean(err[settled] ** 2, axis=0)).max() < 3.0  # degrees, roll/pitch/yaw
+    final_bias = np.mean(LOG.gyro[-50:] - FLIGHT.omega_b[-50:], axis=0)  # the bias at the end (± 0.7 mrad/s)
+    assert np.abs(run.x[-1, 4:] - final_bias).max() < 0.005
+    assert np.abs(np.linalg.norm(run.x[:, :4], axis=1) - 1).max() < 1e-12  # renormalised (§8.2)
+
+
+def test_the_chapter_can_build_the_ekf_by_hand_and_gets_the_same_run():
+    x0 = initial_state(LOG, 50)
+    ekf = ModelEKF(fixedwing_model(NOISE.gyro_sigma_rad_s, NOISE.gyro_bias_walk_rad_s_sqrt_s), x0,
+                   np.diag([0.1**2] * 4 + [0.02**2] * 3), FLIGHT.dt)
+    mag = fixedwing_mag_sensor(NOISE.declination_rad, NOISE.mag_sigma, NOISE.inclination_rad)
+    by_hand = run_filter(ekf, LOG.t, LOG.gyro, fixedwing_measurements(LOG, NOISE.accel_sigma_m_s2, mag))
+    np.testing.assert_array_equal(by_hand.x, _run()[0].x)
+
+
+def test_magnetometer_and_airspeed_failures_switch_the_model_per_step():
+    mag, airspeed = np.array(LOG.mag), np.array(LOG.airspeed)
+    mag_lost = (FLIGHT.t > 30) & (FLIGHT.t < 45)  # through the climb and a turn
+    mag[mag_lost] = np.nan
+    airspeed[(FLIGHT.t > 10) & (FLIGHT.t < 20)] = np.nan  # pitot lost in the right turn
+    failed = ImuLog(LOG.t, LOG.gyro, LOG.accel, mag, airspeed)
+    run, err = _run(failed)
+    assert np.all(np.isfinite(run.x))
+    assert run.sensors["mag"].missing.sum() == mag_lost.sum()
+    assert run.sensors["accel (no airspeed)"].used.sum() == np.isnan(airspeed).sum()
+    assert run.sigma[mag_lost, 2].max() < run.sigma[(FLIGHT.t > 25) & (FLIGHT.t < 30), 2].max() * 50  # bounded
+    _, err_ok = _run()
+    late = FLIGHT.t > 60  # ten seconds after both failures ended: back to the unfailed filter's accuracy
+    assert np.abs(np.sqrt(np.mean(err[late] ** 2, axis=0)) - np.sqrt(np.mean(err_ok[late] ** 2, axis=0))).max() < 1.0
+    # without the switch (airspeed taken as 0 with the normal R), the turn's centripetal force
+    # is read as tilt: the roll error in the turn is larger
+    zero = ImuLog(LOG.t, LOG.gyro, LOG.accel, LOG.mag, np.where(np.isnan(airspeed), 0.0, airspeed))
+    _, err_zero = _run(zero)
+    turn = (FLIGHT.t > 12) & (FLIGHT.t < 18)
+    assert np.abs(err_zero[turn, 0]).mean() > 2 * np.abs(err[turn, 0]).mean()
+
+
+def test_the_documents_horizontal_field_model_fails_with_a_dipping_field():
+    _, err = _run(inclination=0.0)
+    assert np.sqrt(np.mean(err[FLIGHT.t > 5] ** 2, axis=0)).max() > 10.0
+
+
+@pytest.mark.parametrize("factory", [multiplicative_ekf, error_state_ukf])
+def test_error_state_filters_track_the_attitude(factory):
+    flight = fixedwing_flight(rate_hz=25.0)
+    log = fixedwing_samples(flight, NOISE, np.random.default_rng(13)).slice(0, int(25.0 / flight.dt))  # level + turn
+    run = estimate_fixedwing_attitude(log, NOISE, factory)
+    err = _euler_error_deg(run.x, flight)
+    assert np.sqrt(np.mean(err[log.t > 5.0] ** 2, axis=0)).max() < 3.0
+    assert np.abs(np.linalg.norm(run.x[:, :4], axis=1) - 1).max() < 1e-12
+    assert run.P.shape == (len(log), 6, 6)
+
+
+@pytest.mark.parametrize("rate", [np.array([0.4, -0.3, 0.8]), np.array([0.02 + 1e-9, -0.01, 0.03])])
+def test_error_state_model_jacobians_match_finite_differences(rate):
+    model = fixedwing_error_model(0.005, 1e-4)
+    rng = np.random.default_rng(3)
+    x = np.r_[quat_canonical(rng.normal(size=4) / 2.0), 0.02, -0.01, 0.03]
+    x[:4] /= np.linalg.norm(x[:4])
+    u, dt, eps = rate, 0.05, 1e-6  # the second rate minus the bias is nearly zero: the series branch
+    step = lambda e: model.residual_x(model.g(model.state_add(x, e), u, dt), model.g(x, u, dt))  # noqa: E731
+    G_fd = np.column_stack([(step(eps * e) - step(-eps * e)) / (2 * eps) for e in np.eye(6)])
+    np.testing.assert_allclose(model.G(x, u, dt), G_fd, atol=1e-8)
+    add_fd = np.column_stack([(model.state_add(x, eps * e) - model.state_add(x, -eps * e)) / (2 * eps)
+                              for e in np.eye(6)])
+    np.testing.assert_allclose(model.add_jacobian(x), add_fd, atol=1e-8)
+    e = rng.normal(size=6) * 0.1
+    np.testing.assert_allclose(model.residual_x(model.state_add(x, e), x), e, atol=1e-12)  # ⊟ inverts ⊞
+
+
+def test_bad_arguments_are_named():
+    with pytest.raises(ValueError, match="n_still: expected an int >= 1, got 0"):
+        initial_state(LOG, 0)
+    with pytest.raises(TypeError, match="log: expected an ImuLog, got tuple"):
+        fixedwing_measurements((LOG.t, LOG.gyro), 0.15, fixedwing_mag_sensor(0.0, 0.01))
+    with pytest.raises(ValueError, match="log: expected magnetometer and airspeed samples"):
+        fixedwing_measurements(ImuLog(LOG.t, LOG.gyro, LOG.accel), 0.15, fixedwing_mag_sensor(0.0, 0.01))
+    with pytest.raises(ValueError, match="gyro_sigma_rad_s: expected a finite number > 0"):
+        fixedwing_model(0.0, 1e-4)
+    with pytest.raises(ValueError, match="n_still"):
+        estimate_fixedwing_attitude(LOG, NOISE, tuning=FixedWingTuning(n_still=-3))
