@@ -118,8 +118,9 @@ class ModelFilter:
         """Fold the error into the nominal state (error-state models), then apply ``normalize``."""
         m = self.model
         if m.is_error_state:
-            self.nominal = np.asarray(m.state_add(self.nominal, self.x.reshape(-1)), dtype=float)
-            self.x = np.zeros_like(self.x)
+            if self.x.any():  # an EKF's predict leaves it zero: nothing to fold
+                self.nominal = np.asarray(m.state_add(self.nominal, self.x.reshape(-1)), dtype=float)
+                self.x = np.zeros_like(self.x)
             if m.normalize is not None:
                 self.nominal = np.asarray(m.normalize(self.nominal), dtype=float)
         elif m.normalize is not None:

@@ -206,7 +206,8 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
 
     def state_add(q, d):
         for i in range(blocks):
-            q = quat_multiply(q, quat_from_rotvec(d[3 * i:3 * i + 3]))
+            if d[3 * i:3 * i + 3].any():  # each update turns by one block only
+                q = quat_multiply(q, quat_from_rotvec(d[3 * i:3 * i + 3]))
         return q
 
     def residual_x(q1, q0):  # one right inverse of state_add: the whole turn in the first block

@@ -54,3 +54,20 @@ def test_settling_time():
     assert settling_time(t, x, target=20, tolerance=0.6, t_start=3.0) == np.inf
     with pytest.raises(ValueError, match="tolerance: expected a number > 0"):
         settling_time(t, x, 10, 0.0, 3.0)
+
+
+def test_angle_and_attitude_errors():
+    from quadlib.analysis.metrics import angle_error, angle_rmse, attitude_error, attitude_rmse
+    from quadlib.geometry.quaternion import quat_from_euler
+
+    np.testing.assert_allclose(angle_error([np.pi - 0.1, -3.0], [-np.pi + 0.1, 3.0]), [-0.2, 2 * np.pi - 6.0])
+    assert angle_rmse([3.1, -3.1], [-3.1, 3.1], axis=None) == pytest.approx(2 * np.pi - 6.2)
+    q_true = quat_from_euler(np.array([0.1, 0.2]), np.array([0.0, -0.3]), np.array([3.1, -3.1]))
+    q_est = quat_from_euler(np.array([0.1, 0.2]), np.array([0.0, -0.3]), np.array([3.1 + 0.05, -3.1 - 0.02]))
+    np.testing.assert_allclose(attitude_error(q_est, q_true), [0.05, 0.02], atol=1e-12)
+    np.testing.assert_allclose(attitude_error(-q_est, q_true), [0.05, 0.02], atol=1e-12)  # sign-blind
+    assert attitude_rmse(q_est, q_true) == pytest.approx(np.sqrt((0.05**2 + 0.02**2) / 2))
+    with pytest.raises(ValueError, match=r"estimate, truth: expected the same shape, got \(2,\) and \(3,\)"):
+        angle_error([0, 0], [0, 0, 0])
+    with pytest.raises(ValueError, match=r"q_estimate: expected shape \(\.\.\., 4\)"):
+        attitude_error(np.zeros((2, 3)), q_true)
