@@ -44,6 +44,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/quad3d_filters.py
 	$(BIN)/python benchmarks/attitude_filters.py
 	$(BIN)/python benchmarks/fixedwing_filters.py
+	$(BIN)/python benchmarks/estimator_cost.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py

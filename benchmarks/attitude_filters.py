@@ -15,31 +15,32 @@ import time
 
 import numpy as np
 
+from quadlib.analysis.metrics import attitude_error
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
-from quadlib.attitude.tumble import attitude_samples, random_rotation
-from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
+from quadlib.attitude.tumble import random_rotation
+from quadlib.sim.imu import imu_samples
 
 
 def main(seconds: float = 120.0, seed: int = 10) -> None:
-    base = AttitudeNoise()
-    t, q_true, omega = random_rotation(seconds, base, np.random.default_rng(seed))
+    motion = random_rotation(seconds, 250.0, np.random.default_rng(seed))
+    t, q_true = motion.t, motion.q_nb
     settled = t > 2.0
     cost = {name: [0.0, 0] for name in FILTERS}
     worst_norm = dict.fromkeys(FILTERS, 0.0)
-    for label, thesis in (("thesis's process noise τσ²_ω", True), ("corrected process noise (σ_ω τ)²", False)):
+    for label, thesis in (("thesis's process noise Δt σ²_ω", True), ("corrected process noise (σ_ω Δt)²", False)):
         noise = AttitudeNoise(thesis_process_noise=thesis)
         print(f"\nmean squared attitude error [deg²], {seconds:g} s at 250 Hz, {label}")
         print(f"{'k':>2} | " + " | ".join(f"{name:>8}" for name in FILTERS))
         for k in range(1, 6):
-            g, a, m = attitude_samples(q_true, omega, noise, np.random.default_rng([seed, k]), mag_every=k)
+            log = imu_samples(motion, noise, np.random.default_rng([seed, k]), field_n=noise.field_n, mag_every=k)
             row = []
-            for name, cls in FILTERS.items():
+            for name, make in FILTERS.items():
                 start = time.perf_counter()
-                est = run_attitude_filter(cls(noise), g, a, m)
+                est = run_attitude_filter(make(noise), log).q_nb
                 cost[name][0] += time.perf_counter() - start
                 cost[name][1] += len(t)
                 worst_norm[name] = max(worst_norm[name], np.abs(np.linalg.norm(est, axis=1) - 1.0).max())
-                err = np.degrees(np.linalg.norm(quat_to_rotvec(quat_multiply(quat_conjugate(q_true), est)), axis=1))
+                err = np.degrees(attitude_error(est, q_true))
                 row.append(np.mean(err[settled] ** 2))
             print(f"{k:2d} | " + " | ".join(f"{v:8.5f}" for v in row))
     print(f"\nlargest |‖q‖ − 1| over all {len(t)}-step runs: " + ", ".join(

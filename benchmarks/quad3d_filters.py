@@ -13,8 +13,9 @@ import numpy as np
 
 from quadlib import ModelEKF, ModelUKF, run_filter
 from quadlib.geometry.rotations import wrap_angle
+from quadlib.quad.estimate import Quad3DTuning
 from quadlib.quad.flight import SensorNoise3D, square_course
-from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
+from quadlib.quad.quad3d import quad3d_ukf_options
 from quadlib.quad.scenario import run3d_measurements, simulate_run3d
 
 
@@ -22,9 +23,8 @@ def main(n_flights: int = 20, seed: int = 8) -> None:
     rng = np.random.default_rng(seed)
     flight, noise, decimate = square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), 10
     dt = decimate * flight.dt
-    model = quad3d_model([2.0, 2.0, 1.5 / np.sqrt(10)], 0.5 / np.sqrt(10))
-    sensors = (quad3d_gps_sensor(), quad3d_mag_sensor(0.1))
-    P0 = np.diag([1.0, 1.0, 2.0, 0.1, 0.1, 0.3, 0.1]) ** 2
+    tuning = Quad3DTuning()  # chapter 8's
+    model, sensors, P0 = tuning.model(), tuning.sensors(), tuning.P0
     factories = {"EKF": lambda x0: ModelEKF(model, x0, P0, dt),
                  "UKF": lambda x0: ModelUKF(model, x0, P0, dt, **quad3d_ukf_options())}
     errs = {name: [] for name in factories}

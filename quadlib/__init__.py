@@ -19,8 +19,9 @@ scalar first, noise given as standard deviations, every random function takes a
 ``numpy.random.Generator``.
 """
 
-from quadlib.filters import Innovation, LinearKF, ModelEKF, ModelFilter, ModelUKF
+from quadlib.filters import LinearKF, ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
+from quadlib.model_filter import Innovation, ModelFilter
 from quadlib.replay import FilterRun, Measurements, SensorTrace, run_filter
 
 __version__ = "0.1.0"

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.filters import ModelFilter, gate_threshold
 from quadlib.model import Sensor
+from quadlib.model_filter import ModelFilter, gate_threshold
 from quadlib.validation import as_finite_array, as_probability, as_times
 
 __all__ = ["FilterRun", "Measurements", "SensorTrace", "run_filter"]

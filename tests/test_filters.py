@@ -5,7 +5,7 @@ import pytest
 from filterpy.kalman import KalmanFilter
 
 from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Sensor
-from quadlib.filters import gate_threshold
+from quadlib.model_filter import gate_threshold
 from quadlib.quad.height import height_model, range_sensor
 
 

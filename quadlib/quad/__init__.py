@@ -1,5 +1,6 @@
 """The quadrotor models of Tellex et al. §5–7, their flights and the blog's pipeline."""
 
+from .estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf
 from .flight import (
     Flight3D,
     Samples,
@@ -29,10 +30,12 @@ from .scenario import Run3D, run3d_measurements, simulate_run3d
 
 __all__ = [
     "Flight3D",
+    "Quad3DTuning",
     "Run3D",
     "Samples",
     "SensorNoise3D",
     "baro_samples",
+    "estimate_quad3d",
     "figure_eight",
     "flight_from_path",
     "gps_samples",
@@ -45,6 +48,7 @@ __all__ = [
     "quad2d_model",
     "quad2d_range_sensor",
     "quad3d_baro_sensor",
+    "quad3d_ekf",
     "quad3d_gps_sensor",
     "quad3d_mag_sensor",
     "quad3d_model",

@@ -69,3 +69,4 @@ def test_an_unwrapped_yaw_innovation_does_glitch(run):
     plain = Sensor(name="mag", measurement_names=("yaw [rad]",), h=MAG.h, H=MAG.H, R=MAG.R)
     _, err = _filter(run, mag_sensor=plain)
     assert np.degrees(np.abs(err[:, 6]).max()) > 90.0
+

@@ -1,0 +1,87 @@
+"""Cost per filter step of every estimator the project has, each driven by ``run_filter``.
+
+Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
+of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,
+all measured in this run.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from quadlib import LinearKF, Measurements, ModelEKF, ModelUKF, run_filter
+from quadlib.attitude import FILTERS, AttitudeNoise, altitude_model, baro_altitude_sensor, random_rotation
+from quadlib.attitude.kesten import run_attitude_filter
+from quadlib.fixedwing import (
+    FixedWingNoise,
+    error_state_ukf,
+    estimate_fixedwing_attitude,
+    fixedwing_flight,
+    fixedwing_samples,
+    multiplicative_ekf,
+    salmony_ekf,
+)
+from quadlib.quad import (
+    Quad3DTuning,
+    SensorNoise3D,
+    quad3d_ukf_options,
+    run3d_measurements,
+    simulate_run3d,
+    square_course,
+)
+from quadlib.sim import imu_samples
+
+
+def best_us_per_step(run, steps: int, repeats: int = 3) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    return 1e6 * min(times) / steps
+
+
+def main() -> None:
+    rows = []
+    noise = AttitudeNoise()
+    log = imu_samples(random_rotation(8.0, 250.0, np.random.default_rng(1)), noise, np.random.default_rng(2),
+                      field_n=noise.field_n)
+    for name, make in FILTERS.items():
+        rows.append((f"Kesten {name} (250 Hz, a + m every step)",
+                     best_us_per_step(lambda make=make: run_attitude_filter(make(noise), log), len(log))))
+
+    fw_noise = FixedWingNoise()
+    fw = fixedwing_samples(fixedwing_flight(rate_hz=50.0), fw_noise, np.random.default_rng(3))
+    for name, factory, n in (("Salmony EKF", salmony_ekf, 1000), ("multiplicative EKF", multiplicative_ekf, 1000),
+                             ("error-state UKF", error_state_ukf, 200)):
+        part = fw.slice(0, n)
+        rows.append((f"fixed-wing {name} (a + m every step)",
+                     best_us_per_step(lambda f=factory, p=part: estimate_fixedwing_attitude(p, fw_noise, f), n)))
+
+    run = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(4))
+    tuning = Quad3DTuning()
+    model, sensors, P0, dt = tuning.model(), tuning.sensors(), tuning.P0, run.t[1] - run.t[0]
+    x0 = run.truth[0]
+    for name, make in (("EKF", lambda: ModelEKF(model, x0, P0, dt)),
+                       ("UKF", lambda: ModelUKF(model, x0, P0, dt, **quad3d_ukf_options()))):
+        rows.append((f"3D quadrotor {name} (50 Hz, GPS 10 Hz, mag 100 Hz)",
+                     best_us_per_step(lambda make=make: run_filter(make(), run.t, run.u,
+                                                                   run3d_measurements(run, *sensors)), run.t.size)))
+
+    t = np.arange(2000) * 0.004
+    baro = [Measurements(baro_altitude_sensor(0.39), t[::10], np.zeros(200))]
+    altitude = altitude_model(0.06, 0.001)
+    rows.append(("altitude KF (250 Hz, baro 25 Hz)",
+                 best_us_per_step(lambda: run_filter(LinearKF(altitude, [0, 0, 9.8], np.eye(3), 0.004), t,
+                                                     np.full((2000, 1), 9.80665), baro), t.size)))
+
+    cheapest = min(us for _, us in rows)
+    print(f"{'estimator':<52} | {'µs / step':>9} | {'ratio':>6}")
+    for name, us in rows:
+        print(f"{name:<52} | {us:9.1f} | {us / cheapest:6.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,177 @@
+"""What every quadlib filter shares: the predict/update interface, the χ² gate, error-state folding.
+
+:class:`ModelFilter` is mixed in before a filterpy filter class (see :mod:`quadlib.filters`). It
+checks arguments at the boundary, reuses ``Q(dt)`` while ``dt`` does not change, gates updates on
+the NIS, applies the model's ``normalize`` hook, and — for an error-state model — keeps the full
+state outside filterpy and folds each error into it.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+from scipy.stats import chi2
+
+from quadlib.model import Model, Sensor
+from quadlib.validation import as_covariance, as_positive, as_probability, as_vector
+
+__all__ = ["Innovation", "ModelFilter", "gate_threshold"]
+
+
+class Innovation(NamedTuple):
+    """What one measurement update saw.
+
+    Attributes
+    ----------
+    y : (k,) ndarray
+        Innovation (residual) ``z - h(x̄)``.
+    S : (k, k) ndarray
+        Innovation covariance.
+    nis : float
+        Normalised innovation squared ``yᵀ S⁻¹ y`` (χ² with k dof if consistent).
+    accepted : bool
+        False when the gate rejected the sample and the state was left unchanged.
+    """
+
+    y: np.ndarray
+    S: np.ndarray
+    nis: float
+    accepted: bool
+
+
+@lru_cache(maxsize=64)
+def gate_threshold(dim_z: int, probability: float) -> float:
+    """χ² quantile used as the NIS gate for a ``dim_z``-dimensional measurement."""
+    return float(chi2.ppf(probability, dim_z))
+
+
+class ModelFilter:
+    """Behaviour shared by the three wrappers (mixed in before the filterpy class).
+
+    For an error-state model (``model.error_names`` given) filterpy's ``x`` is the error ``δx``
+    and ``P`` its covariance; the full state lives in ``nominal``. After every predict and update
+    the error is folded into it, ``nominal ← nominal ⊞ δx``, and reset to zero (the "reset" step
+    of a multiplicative EKF). :attr:`estimate` is the full state either way.
+    """
+
+    model: Model
+    nominal: np.ndarray | None
+
+    def _setup(self, model: Model, x0, P0, dt) -> np.ndarray:
+        """Check the arguments; return the initial filterpy ``x`` (the error state is zero)."""
+        if not isinstance(model, Model):
+            raise TypeError(f"model: expected a quadlib Model, got {type(model).__name__}")
+        self.model = model
+        self.dt = as_positive("dt", dt)
+        x0 = as_vector("x0", x0, model.dim_x)
+        if model.normalize is not None:
+            x0 = as_vector("normalize(x0)", model.normalize(x0), model.dim_x)
+        self._P0 = as_covariance("P0", P0, model.dim_P)
+        self._q_dt = self.dt
+        self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_P)  # checked once
+        self.nominal = x0 if model.is_error_state else None
+        return np.zeros(model.dim_P) if model.is_error_state else x0
+
+    @property
+    def estimate(self) -> np.ndarray:
+        """The current state mean as a 1-D copy, shape ``(n,)`` (the full state for an error-state model)."""
+        if self.nominal is not None:
+            return self.nominal.copy()
+        return np.array(self.x, dtype=float).reshape(-1)
+
+    def _process_noise(self, dt: float) -> np.ndarray:
+        # Q depends on dt only. A uniform time grid asks for the same dt every step, up to float
+        # jitter (the differences of 0.02 * arange(N) vary in the last bits), so Q(dt) is reused
+        # while dt stays within a relative 1e-9 of the dt it was computed for.
+        if abs(dt - self._q_dt) > 1e-9 * dt:
+            self._q_dt, self._q = dt, np.asarray(self.model.Q(dt), dtype=float)
+        return self._q
+
+    def _sensor_functions(self, sensor: Sensor, context):
+        """``h(x)`` and ``H(x)`` of ``sensor`` for this sample (its context bound)."""
+        if sensor.dim_c:
+            return (lambda x: sensor.h(x, context)), (lambda x: sensor.H(x, context))
+        return sensor.h, sensor.H
+
+    def _settle(self) -> None:
+        """Fold the error into the nominal state (error-state models), then apply ``normalize``."""
+        m = self.model
+        if m.is_error_state:
+            if self.x.any():  # an EKF's predict leaves it zero: nothing to fold
+                self.nominal = np.asarray(m.state_add(self.nominal, self.x.reshape(-1)), dtype=float)
+                self.x = np.zeros_like(self.x)
+            if m.normalize is not None:
+                self.nominal = np.asarray(m.normalize(self.nominal), dtype=float)
+        elif m.normalize is not None:
+            self.x = np.asarray(m.normalize(self.x.reshape(-1)), dtype=float).reshape(self.x.shape)
+
+    def _check_finite(self, step: str) -> None:
+        # one reduction: a sum is finite only if every term is (or it overflows, near 1e308)
+        total = self.x.sum() + self.P.sum() + (0.0 if self.nominal is None else self.nominal.sum())
+        if not np.isfinite(total):
+            raise FloatingPointError(
+                f"{type(self).__name__}.{step}: the state or covariance became non-finite; "
+                "check the model, Q, R and the inputs"
+            )
+
+    def predict(self, u=None, dt: float | None = None) -> None:
+        """Propagate mean and covariance over ``dt`` [s] (default: the filter's ``dt``) with input ``u``."""
+        dt = self.dt if dt is None else as_positive("dt", dt)
+        self.predict_unchecked(self.model.check_input(u), dt)
+        self._check_finite("predict")
+
+    def predict_unchecked(self, u: np.ndarray, dt: float) -> None:
+        """:meth:`predict` without argument checks, for loops that validated their whole log first."""
+        self._predict(u, dt)
+        self._settle()
+
+    def update_sensor(self, sensor: Sensor, z, gate_probability: float | None = None, context=None) -> Innovation:
+        """Update with one sample of ``sensor``.
+
+        Parameters
+        ----------
+        sensor : Sensor
+            The measurement model.
+        z : (k,) array_like
+            The sample; must be finite (drop missing samples before calling).
+        gate_probability : float in (0, 1), optional
+            If given, a sample whose NIS exceeds the χ² quantile of this
+            probability (``k`` dof) is rejected: the state and covariance are
+            left as they were and ``accepted`` is False.
+        context : (c,) array_like, optional
+            The sample's context, for a sensor with ``context_names``.
+
+        Returns
+        -------
+        Innovation
+        """
+        if not isinstance(sensor, Sensor):
+            raise TypeError(f"sensor: expected a quadlib Sensor, got {type(sensor).__name__}")
+        z = sensor.check_measurement(z)
+        context = sensor.check_context(context)
+        gate = None
+        if gate_probability is not None:
+            gate = gate_threshold(sensor.dim_z, as_probability("gate_probability", gate_probability))
+        innovation = self.update_unchecked(sensor, z, gate, context)
+        self._check_finite("update_sensor")
+        return innovation
+
+    def update_unchecked(self, sensor: Sensor, z: np.ndarray, gate: float | None = None,
+                         context: np.ndarray | None = None) -> Innovation:
+        """:meth:`update_sensor` without argument checks; ``gate`` is the NIS threshold itself."""
+        if gate is not None:
+            saved = (self.x.copy(), self.P.copy(), None if self.nominal is None else self.nominal.copy())
+        self._update(sensor, z, context)
+        k = sensor.dim_z
+        y = self.y.reshape(k)
+        S = self.S.reshape(k, k)
+        nis = float(y @ self.SI.reshape(k, k) @ y)  # filterpy has already inverted S
+        accepted = gate is None or nis <= gate
+        if accepted:
+            self._settle()
+        else:
+            self.x, self.P, self.nominal = saved
+            self.x_post, self.P_post = saved[0].copy(), saved[1].copy()
+        return Innovation(y, S, nis, accepted)

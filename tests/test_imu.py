@@ -1,0 +1,29 @@
+"""The IMU log container."""
+
+import numpy as np
+import pytest
+
+from quadlib.imu import ImuLog
+
+
+def test_a_log_holds_read_only_streams_and_slices():
+    t = np.arange(5) * 0.01
+    log = ImuLog(t, np.zeros((5, 3)), np.tile([0, 0, -9.8], (5, 1)), np.full((5, 3), np.nan), np.arange(5.0))
+    assert len(log) == 5 and np.allclose(log.dt, 0.01)
+    with pytest.raises(ValueError, match="read-only"):
+        log.gyro[0, 0] = 1.0
+    part = log.slice(1, 3)
+    assert len(part) == 2 and part.t[0] == 0.01 and part.airspeed.tolist() == [1.0, 2.0]
+    assert ImuLog(t, np.zeros((5, 3)), np.zeros((5, 3))).mag is None
+
+
+def test_bad_logs_are_refused_with_the_field_named():
+    t = np.arange(3.0)
+    with pytest.raises(ValueError, match=r"ImuLog.gyro: expected shape \(3, 3\), got \(3, 2\)"):
+        ImuLog(t, np.zeros((3, 2)), np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="ImuLog.accel: expected finite values or NaN for missing, got inf"):
+        ImuLog(t, np.zeros((3, 3)), np.full((3, 3), np.inf))
+    with pytest.raises(ValueError, match="ImuLog.t: expected strictly increasing times"):
+        ImuLog([0.0, 0.0, 1.0], np.zeros((3, 3)), np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=r"ImuLog.airspeed: expected shape \(3,\), got \(3, 1\)"):
+        ImuLog(t, np.zeros((3, 3)), np.zeros((3, 3)), airspeed=np.zeros((3, 1)))
