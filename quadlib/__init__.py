@@ -1,8 +1,10 @@
 """quadlib: models, sensors, filter wrappers and metrics for the drone state-estimation notebooks.
 
-The core — :mod:`~quadlib.model` (``Model``, ``Sensor``), :mod:`~quadlib.filters` (the filterpy
-wrappers), :mod:`~quadlib.replay` (``run_filter``, the one loop that drives every filter) and
-:mod:`~quadlib.constants` — sits at the top. Around it, one subpackage per concern:
+The core — :mod:`~quadlib.model` (``Model``, ``Sensor``), :mod:`~quadlib.filters` and
+:mod:`~quadlib.model_filter` (the filterpy wrappers), :mod:`~quadlib.replay` (``run_filter``, the
+one loop that drives every filter), :mod:`~quadlib.samples` and :mod:`~quadlib.imu` (what a log
+holds: ``Samples``, ``Measurements``, ``ImuLog``, ``ImuNoise``) and :mod:`~quadlib.constants` —
+sits at the top. Around it, one subpackage per concern:
 
 ``geometry``   quaternions, rotations, attitude from vector measurements
 ``sim``        model stepping, sensor sampling, trajectories, IMU samples
@@ -22,9 +24,10 @@ scalar first, noise given as standard deviations, every random function takes a
 from quadlib.filters import LinearKF, ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import Innovation, ModelFilter
-from quadlib.replay import FilterRun, Measurements, SensorTrace, run_filter
+from quadlib.replay import FilterRun, SensorTrace, run_filter
+from quadlib.samples import Measurements, Samples
 
 __version__ = "0.1.0"
 
 __all__ = ["FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF", "ModelFilter", "ModelUKF",
-           "Sensor", "SensorTrace", "run_filter"]
+           "Samples", "Sensor", "SensorTrace", "run_filter"]

@@ -17,7 +17,8 @@ import numpy as np
 
 from quadlib.analysis.metrics import nees
 from quadlib.model import Model, Sensor
-from quadlib.replay import Measurements, run_filter
+from quadlib.replay import run_filter
+from quadlib.samples import Measurements
 from quadlib.sim.simulate import sample_sensor, simulate_model
 from quadlib.validation import as_covariance, as_rng, as_vector
 

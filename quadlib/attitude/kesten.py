@@ -55,7 +55,8 @@ from quadlib.geometry.quaternion import (
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise
 from quadlib.model import Model, Sensor
-from quadlib.replay import FilterRun, Measurements, run_filter
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements
 from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",

@@ -11,6 +11,7 @@ from .estimate import (
     salmony_ekf,
 )
 from .model import (
+    FixedWingNoise,
     accel_jacobian,
     accel_model,
     airspeed_from_pressure,
@@ -25,7 +26,7 @@ from .model import (
     mag_model,
     quaternion_rate_matrix,
 )
-from .sim import FixedWingFlight, FixedWingNoise, fixedwing_flight, fixedwing_samples
+from .sim import FixedWingFlight, fixedwing_flight, fixedwing_samples
 
 __all__ = [
     "FixedWingFlight",

@@ -22,18 +22,19 @@ import numpy as np
 from quadlib.attitude.complementary import euler_rate_complementary
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.fixedwing.model import (
+    FixedWingNoise,
     fixedwing_accel_sensor,
     fixedwing_error_model,
     fixedwing_mag_sensor,
     fixedwing_model,
     lowpass2,
 )
-from quadlib.fixedwing.sim import FixedWingNoise
 from quadlib.geometry.rotations import mag_heading
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Sensor
-from quadlib.replay import FilterRun, Measurements, run_filter
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements
 from quadlib.validation import as_positive
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",

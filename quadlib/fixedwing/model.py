@@ -28,6 +28,8 @@ Jacobian of the corrected row).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from quadlib.constants import G0, earth_field_ned
@@ -40,12 +42,13 @@ from quadlib.geometry.quaternion import (
     quat_to_dcm,
     quat_to_rotvec,
 )
+from quadlib.imu import ImuNoise
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_positive
 
-__all__ = ["accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A", "fixedwing_accel_sensor",
-           "fixedwing_error_model", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model", "lowpass2",
-           "mag_jacobian", "mag_model", "quaternion_rate_matrix"]
+__all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",
+           "fixedwing_accel_sensor", "fixedwing_error_model", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
+           "lowpass2", "mag_jacobian", "mag_model", "quaternion_rate_matrix"]
 
 
 
@@ -130,6 +133,24 @@ def airspeed_from_pressure(dp_pa, rho_kg_m3: float = 1.225) -> np.ndarray:
 
 
 # --- quadlib models and sensors ------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FixedWingNoise(ImuNoise):
+    """The fixed-wing flight's sensor errors per sample (at the flight's rate) and the Earth's field.
+
+    Besides :class:`~quadlib.imu.ImuNoise`'s fields (here ``mag_sigma`` is on the unit field vector):
+    ``airspeed_sigma_m_s`` [m/s], ``declination_rad`` and ``inclination_rad`` of the field [rad].
+    """
+
+    gyro_sigma_rad_s: float = 0.005
+    gyro_bias_rad_s: tuple = (0.02, -0.015, 0.01)
+    gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
+    accel_sigma_m_s2: float = 0.15
+    mag_sigma: float = 0.01
+    airspeed_sigma_m_s: float = 0.3
+    declination_rad: float = field(default=float(np.radians(3.0)))
+    inclination_rad: float = field(default=float(np.radians(65.0)))
+
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
 GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")

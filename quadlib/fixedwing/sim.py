@@ -9,35 +9,29 @@ rates from consecutive attitudes, and the accelerometer's specific force from eq
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from quadlib.constants import G0, GRAVITY_N, earth_field_ned
+from quadlib.fixedwing.model import FixedWingNoise
 from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
-from quadlib.imu import ImuLog, ImuNoise
-from quadlib.sim.imu import imu_samples
+from quadlib.imu import ImuLog
+from quadlib.sim.imu import BodyMotion, imu_samples
 from quadlib.sim.trajectories import min_jerk
 from quadlib.validation import as_positive, as_rng
 
-__all__ = ["FixedWingFlight", "FixedWingNoise", "fixedwing_flight", "fixedwing_samples"]
+__all__ = ["FixedWingFlight", "fixedwing_flight", "fixedwing_samples"]
 
 
 
 @dataclass(frozen=True)
-class FixedWingFlight:
-    """Truth at ``t`` (uniform step): attitude, Euler angles, body rates, specific force, airspeed."""
+class FixedWingFlight(BodyMotion):
+    """Truth at ``t`` (uniform step): what :class:`~quadlib.sim.BodyMotion` holds, plus roll, pitch,
+    yaw ``euler`` (N, 3) [rad] and ``airspeed`` (N,) [m/s]."""
 
-    t: np.ndarray
-    q_nb: np.ndarray
     euler: np.ndarray
-    omega_b: np.ndarray
-    f_b: np.ndarray
     airspeed: np.ndarray
-
-    @property
-    def dt(self) -> float:
-        return float(self.t[1] - self.t[0])
 
 
 def _blend(t, changes):
@@ -67,24 +61,6 @@ def fixedwing_flight(rate_hz: float = 100.0, airspeed_m_s: float = 20.0) -> Fixe
            - np.einsum("nji,j->ni", R, GRAVITY_N))
     return FixedWingFlight(t=t, q_nb=q, euler=np.column_stack([roll, pitch, np.mod(yaw + np.pi, 2 * np.pi) - np.pi]),
                            omega_b=omega, f_b=f_b, airspeed=airspeed)
-
-
-@dataclass(frozen=True)
-class FixedWingNoise(ImuNoise):
-    """The fixed-wing flight's sensor errors per sample (at the flight's rate) and the Earth's field.
-
-    Besides :class:`~quadlib.imu.ImuNoise`'s fields (here ``mag_sigma`` is on the unit field vector):
-    ``airspeed_sigma_m_s`` [m/s], ``declination_rad`` and ``inclination_rad`` of the field [rad].
-    """
-
-    gyro_sigma_rad_s: float = 0.005
-    gyro_bias_rad_s: tuple = (0.02, -0.015, 0.01)
-    gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
-    accel_sigma_m_s2: float = 0.15
-    mag_sigma: float = 0.01
-    airspeed_sigma_m_s: float = 0.3
-    declination_rad: float = field(default=float(np.radians(3.0)))
-    inclination_rad: float = field(default=float(np.radians(65.0)))
 
 
 def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> ImuLog:

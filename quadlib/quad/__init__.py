@@ -3,7 +3,6 @@
 from .estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf
 from .flight import (
     Flight3D,
-    Samples,
     SensorNoise3D,
     baro_samples,
     figure_eight,
@@ -32,7 +31,6 @@ __all__ = [
     "Flight3D",
     "Quad3DTuning",
     "Run3D",
-    "Samples",
     "SensorNoise3D",
     "baro_samples",
     "estimate_quad3d",

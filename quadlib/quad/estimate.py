@@ -9,8 +9,8 @@ import numpy as np
 from quadlib.filters import ModelEKF
 from quadlib.model import Model, Sensor
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model
-from quadlib.quad.scenario import Run3D, run3d_measurements
 from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements, Samples
 from quadlib.validation import as_vector
 
 __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf"]
@@ -64,15 +64,21 @@ def quad3d_ekf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelEKF
     return ModelEKF(tuning.model(), x0, tuning.P0, dt)
 
 
-def estimate_quad3d(run: Run3D, x0=None, tuning: Quad3DTuning = Quad3DTuning(),
+def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTuning = Quad3DTuning(),
                     gate_probability: float | None = None) -> FilterRun:
     """Position, velocity and yaw of a quadrotor from its IMU inputs, GPS and magnetometer, in one call.
 
     Parameters
     ----------
-    run : Run3D
-        The filter's time grid and inputs (specific force, yaw rate, roll, pitch) and the GPS and
-        magnetometer samples (:func:`quadlib.quad.simulate_run3d` makes one).
+    t : (N,) array_like
+        The filter's times [s] (uniform step).
+    u : (N, 6) array_like
+        Inputs: specific force (FRD) [m/s²], yaw rate [rad/s], roll and pitch [rad]
+        (:func:`quadlib.quad.imu_inputs` builds them from an IMU log and an attitude filter).
+    gps : Samples
+        GPS ``[x, y, z, ẋ, ẏ, ż]`` (NED, m and m/s); NaN rows are missing fixes.
+    mag : Samples
+        Magnetometer heading [rad].
     x0 : (7,) array_like, optional
         Initial state; by default the first GPS fix (position and velocity) and the first heading.
     tuning : Quad3DTuning
@@ -84,13 +90,16 @@ def estimate_quad3d(run: Run3D, x0=None, tuning: Quad3DTuning = Quad3DTuning(),
     FilterRun
         ``x`` (N, 7) and ``sigma`` (N, 7).
     """
-    if not isinstance(run, Run3D):
-        raise TypeError(f"run: expected a Run3D, got {type(run).__name__}")
+    for name, s in (("gps", gps), ("mag", mag)):
+        if not isinstance(s, Samples):
+            raise TypeError(f"{name}: expected Samples, got {type(s).__name__}")
     if x0 is None:
-        if not (run.gps.t.size and run.mag.t.size):
-            raise ValueError("run: expected at least one GPS and one magnetometer sample to start from, got none")
-        x0 = np.concatenate([run.gps.z[0], run.mag.z[0]])
+        if not (gps.t.size and mag.t.size):
+            raise ValueError("gps, mag: expected at least one sample of each to start from, got none")
+        x0 = np.concatenate([gps.z[0], mag.z[0]])
     x0 = as_vector("x0", x0, 7)
-    dt = float(run.t[1] - run.t[0])
-    return run_filter(quad3d_ekf(x0, dt, tuning), run.t, run.u, run3d_measurements(run, *tuning.sensors()),
+    t = np.asarray(t, dtype=float)
+    gps_sensor, mag_sensor = tuning.sensors()
+    return run_filter(quad3d_ekf(x0, float(t[1] - t[0]), tuning), t, u,
+                      [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)],
                       gate_probability=gate_probability)

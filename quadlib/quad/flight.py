@@ -15,7 +15,6 @@ comes from the ``rng`` argument.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 
@@ -23,41 +22,31 @@ from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
 from quadlib.geometry.rotations import dcm_to_euler, wrap_angle
 from quadlib.imu import ImuNoise
+from quadlib.samples import Samples
+from quadlib.sim.imu import BodyMotion
 from quadlib.sim.trajectories import min_jerk
 from quadlib.validation import as_positive, as_rng
 
-__all__ = ["Flight3D", "Samples", "SensorNoise3D", "baro_samples", "figure_eight", "flight_from_path",
+__all__ = ["Flight3D", "SensorNoise3D", "baro_samples", "figure_eight", "flight_from_path",
            "gps_samples", "mag_field_samples", "mag_yaw_samples", "square_course"]
 
 
 
 @dataclass(frozen=True)
-class Flight3D:
-    """True state of a flight sampled at ``t`` (``N`` samples, uniform step).
+class Flight3D(BodyMotion):
+    """True state of a flight sampled at ``t`` (``N`` samples, uniform step): what
+    :class:`~quadlib.sim.BodyMotion` holds (``t``, ``q_nb``, ``omega_b``, ``f_b``), plus
 
     Attributes
     ----------
-    t : (N,) times [s]
     pos, vel, acc : (N, 3) NED position [m], velocity [m/s], acceleration [m/s²]
-    q_nb : (N, 4) attitude quaternion (body → NED, scalar first)
     euler : (N, 3) roll, pitch, yaw [rad] (yaw wrapped to (−π, π])
-    omega_b : (N, 3) body rates [rad/s]; ``omega_b[k]`` turns ``q_nb[k]`` into ``q_nb[k+1]``
-    f_b : (N, 3) specific force in the body frame [m/s²]
     """
 
-    t: np.ndarray
     pos: np.ndarray
     vel: np.ndarray
     acc: np.ndarray
-    q_nb: np.ndarray
     euler: np.ndarray
-    omega_b: np.ndarray
-    f_b: np.ndarray
-
-    @property
-    def dt(self) -> float:
-        """Sample period [s]."""
-        return float(self.t[1] - self.t[0])
 
 
 def flight_from_path(t, pos, vel, acc, yaw) -> Flight3D:
@@ -159,13 +148,6 @@ class SensorNoise3D(ImuNoise):
     inclination_rad: float = field(default=float(np.radians(60.0)))
     baro_rate_hz: float = 25.0
     baro_sigma_m: float = 0.5
-
-
-class Samples(NamedTuple):
-    """Sensor samples: ``z[j]`` taken at ``t[j]``."""
-
-    t: np.ndarray
-    z: np.ndarray
 
 
 def _every(flight: Flight3D, rate_hz: float) -> np.ndarray:

@@ -1,4 +1,8 @@
-"""One simulated 3D flight, ready for the filters of chapter 8.
+"""One simulated 3D flight, ready for the filters of chapter 8: an experiment harness.
+
+It joins the simulator (:mod:`quadlib.quad.flight`, :func:`quadlib.sim.imu_samples`) to the
+estimator's inputs (a complementary filter for roll and pitch), so it depends on both; only
+chapters, tests and benchmarks import it, never a simulator or an estimator.
 
 :func:`simulate_run3d` draws the IMU, GPS, magnetometer and barometer samples of a
 :class:`~quadlib.quad.flight.Flight3D`, runs a complementary filter for roll and pitch at the IMU
@@ -15,14 +19,13 @@ import numpy as np
 from quadlib.attitude.complementary import euler_rate_complementary
 from quadlib.quad.flight import (
     Flight3D,
-    Samples,
     SensorNoise3D,
     baro_samples,
     gps_samples,
     mag_yaw_samples,
 )
 from quadlib.quad.quad3d import imu_inputs
-from quadlib.replay import Measurements
+from quadlib.samples import Measurements, Samples
 from quadlib.sim.imu import imu_samples
 
 __all__ = ["Run3D", "run3d_measurements", "simulate_run3d"]

@@ -28,12 +28,17 @@ __all__ = ["BodyMotion", "imu_samples", "specific_force_at_rest"]
 class BodyMotion:
     """A true motion as an IMU sees it: ``t`` (N,), ``q_nb`` (N, 4), ``omega_b`` (N, 3) [rad/s]
     with ``omega_b[k]`` turning ``q_nb[k]`` into ``q_nb[k+1]``, and ``f_b`` (N, 3) specific force
-    [m/s²]. The flights of every vehicle have these four attributes too."""
+    [m/s²]. The flights of every vehicle extend it."""
 
     t: np.ndarray
     q_nb: np.ndarray
     omega_b: np.ndarray
     f_b: np.ndarray
+
+    @property
+    def dt(self) -> float:
+        """Sample period [s] (the motions here are uniformly sampled)."""
+        return float(self.t[1] - self.t[0])
 
 
 def specific_force_at_rest(q_nb) -> np.ndarray:
@@ -46,7 +51,7 @@ def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, 
 
     Parameters
     ----------
-    motion : BodyMotion, or a flight with attributes ``t, q_nb, omega_b, f_b``
+    motion : BodyMotion (every vehicle's flight is one)
     noise : ImuNoise
     rng : numpy.random.Generator
     field_n : (3,) array_like, optional

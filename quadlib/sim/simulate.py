@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from quadlib.model import Model, Sensor
-from quadlib.replay import Measurements
+from quadlib.samples import Measurements
 from quadlib.validation import as_finite_array, as_positive, as_probability, as_rng, as_times
 
 __all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]

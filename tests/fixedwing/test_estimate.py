@@ -14,8 +14,8 @@ from quadlib.fixedwing.estimate import (
     multiplicative_ekf,
     salmony_ekf,
 )
-from quadlib.fixedwing.model import fixedwing_error_model, fixedwing_mag_sensor, fixedwing_model
-from quadlib.fixedwing.sim import FixedWingNoise, fixedwing_flight, fixedwing_samples
+from quadlib.fixedwing.model import FixedWingNoise, fixedwing_error_model, fixedwing_mag_sensor, fixedwing_model
+from quadlib.fixedwing.sim import fixedwing_flight, fixedwing_samples
 from quadlib.geometry.quaternion import integrate_body_rate, quat_canonical, quat_to_dcm, quat_to_euler
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.imu import ImuLog

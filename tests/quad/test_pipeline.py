@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from quadlib.quad.flight import Samples
 from quadlib.quad.pipeline import simple_pipeline
+from quadlib.samples import Samples
 
 
 def test_pipeline_holds_samples_and_differences_them():
