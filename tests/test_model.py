@@ -60,7 +60,7 @@ def test_sensor_measurement_check_names_sensor():
 
 
 def test_height_model_noise_arguments_validated():
-    with pytest.raises(ValueError, match="sigma_velocity_m_s: expected a finite number > 0"):
+    with pytest.raises(ValueError, match="velocity_sigma_m_s: expected a finite number > 0"):
         height_model(0.0)
     with pytest.raises(ValueError, match="sigma_m: expected a finite number > 0"):
         range_sensor(-1.0)

@@ -30,17 +30,17 @@ __all__ = ["SEA_LEVEL_HPA", "altitude_from_pressure", "altitude_model", "baro_al
 SEA_LEVEL_HPA = 1013.25
 
 
-def altitude_model(sigma_accel_m_s2: float, gravity_weight: float) -> Model:
+def altitude_model(accel_sigma_m_s2: float, gravity_weight: float) -> Model:
     """Eq. (2.68) with input noise σ_a (eqs. 2.69–2.70; the thesis's σ²_a = 3.5·10⁻³ m²/s⁴).
 
     Parameters
     ----------
-    sigma_accel_m_s2 : float
+    accel_sigma_m_s2 : float
         Standard deviation of one accelerometer sample [m/s²].
     gravity_weight : float
         ``w`` in (0, 1): how much of each ``a_z`` sample enters g̃ (a time constant of ``τ/w``).
     """
-    sa = as_positive("sigma_accel_m_s2", sigma_accel_m_s2)
+    sa = as_positive("accel_sigma_m_s2", accel_sigma_m_s2)
     w = as_probability("gravity_weight", gravity_weight)
 
     def F(dt):

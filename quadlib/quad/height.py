@@ -3,7 +3,7 @@
 State ``x = [h]`` (height above ground [m], positive *up*: ``h = -z_NED``),
 input ``u = [v]`` (commanded climb rate [m/s]). The drone's real climb rate
 differs from the command by white noise of standard deviation
-``sigma_velocity_m_s``, so over one step
+``velocity_sigma_m_s``, so over one step
 
 .. math::  h_k = h_{k-1} + v\\,\\Delta t + w, \\qquad w \\sim \\mathcal N(0, (\\sigma_v \\Delta t)^2)
 
@@ -21,15 +21,15 @@ from quadlib.validation import as_positive
 __all__ = ["height_model", "range_sensor"]
 
 
-def height_model(sigma_velocity_m_s: float) -> Model:
+def height_model(velocity_sigma_m_s: float) -> Model:
     """Constant-commanded-velocity height model.
 
     Parameters
     ----------
-    sigma_velocity_m_s : float
+    velocity_sigma_m_s : float
         Standard deviation of the actual climb rate around the command [m/s].
     """
-    s = as_positive("sigma_velocity_m_s", sigma_velocity_m_s)
+    s = as_positive("velocity_sigma_m_s", velocity_sigma_m_s)
     return Model(
         state_names=("h [m]",),
         input_names=("v [m/s]",),

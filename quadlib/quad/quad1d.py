@@ -14,7 +14,7 @@ directly (thrust minus gravity, up positive).
 Source: Tellex et al. §5, eqs. (11)–(25). Differs from the source: eq. (13) prints the velocity
 row as ``x_z + z̈ Δt`` (position instead of velocity); eqs. (14) and (17) are right and are used
 here (erratum E8). The process noise, which the source leaves open, is a white acceleration
-disturbance of standard deviation ``sigma_accel_m_s2`` entering as the input does, so that
+disturbance of standard deviation ``accel_sigma_m_s2`` entering as the input does, so that
 ``Q = σ² B Bᵀ`` plus the position share ``Δt²/2`` of exact integration (see :func:`quad1d_model`).
 """
 
@@ -28,12 +28,12 @@ from quadlib.validation import as_positive
 __all__ = ["quad1d_model", "quad1d_range_sensor"]
 
 
-def quad1d_model(sigma_accel_m_s2: float) -> Model:
+def quad1d_model(accel_sigma_m_s2: float) -> Model:
     """Tellex §5 transition model (eq. 14) with white-acceleration process noise.
 
     Parameters
     ----------
-    sigma_accel_m_s2 : float
+    accel_sigma_m_s2 : float
         Standard deviation of the unmodelled vertical acceleration [m/s²], held over each step.
 
     Notes
@@ -41,7 +41,7 @@ def quad1d_model(sigma_accel_m_s2: float) -> Model:
     An acceleration error ``a`` held for ``Δt`` changes the rate by ``a Δt`` and the height by
     ``a Δt²/2``, so ``Q = σ² [Δt, Δt²/2]ᵀ [Δt, Δt²/2]`` (rank one, like any single noise source).
     """
-    s = as_positive("sigma_accel_m_s2", sigma_accel_m_s2)
+    s = as_positive("accel_sigma_m_s2", accel_sigma_m_s2)
 
     def g(x, u, dt):
         return np.array([x[0] + u[0] * dt, x[1] + x[0] * dt])

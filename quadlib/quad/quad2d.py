@@ -30,21 +30,21 @@ from quadlib.validation import as_positive
 __all__ = ["quad2d_model", "quad2d_range_sensor"]
 
 
-def quad2d_model(sigma_accel_m_s2: float, sigma_roll_rad: float, lateral_accel: str = "physics") -> Model:
+def quad2d_model(accel_sigma_m_s2: float, roll_sigma_rad: float, lateral_accel: str = "physics") -> Model:
     """Tellex §6 transition model with white process noise.
 
     Parameters
     ----------
-    sigma_accel_m_s2 : float
+    accel_sigma_m_s2 : float
         Standard deviation of the unmodelled lateral acceleration [m/s²] held over a step
         (gusts); enters ``ẏ`` and ``y`` as in the 1D model.
-    sigma_roll_rad : float
+    roll_sigma_rad : float
         Standard deviation of the achieved roll around the command [rad], per step.
     lateral_accel : {"physics", "seed"}
         ``"physics"``: ``+g₀ tan φ`` (default); ``"seed"``: ``-sin φ`` as printed in eq. (28).
     """
-    sa = as_positive("sigma_accel_m_s2", sigma_accel_m_s2)
-    sr = as_positive("sigma_roll_rad", sigma_roll_rad)
+    sa = as_positive("accel_sigma_m_s2", accel_sigma_m_s2)
+    sr = as_positive("roll_sigma_rad", roll_sigma_rad)
     if lateral_accel == "physics":
         def accel(phi):
             return G0 * np.tan(phi)

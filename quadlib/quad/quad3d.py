@@ -33,23 +33,23 @@ __all__ = ["imu_inputs", "quad3d_baro_sensor", "quad3d_gps_sensor", "quad3d_mag_
 YAW = 6
 
 
-def quad3d_model(sigma_accel_m_s2, sigma_yaw_rate_rad_s: float, gravity: str = "ned") -> Model:
+def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "ned") -> Model:
     """Tellex §7.2 transition (eq. 49) and Jacobian (eqs. 50–52), with white process noise.
 
     Parameters
     ----------
-    sigma_accel_m_s2 : float or (3,) array_like
+    accel_sigma_m_s2 : float or (3,) array_like
         Standard deviation of the acceleration error per step [m/s²] (accelerometer noise of the
         input sample), per NED axis; it enters ``v`` as ``σ Δt`` and ``p`` as ``σ Δt²/2``.
-    sigma_yaw_rate_rad_s : float
+    yaw_rate_sigma_rad_s : float
         Standard deviation of the yaw-rate input error [rad/s].
     gravity : {"ned", "seed"}
         ``"ned"``: ``+g₀ Δt`` on ``ż`` (default); ``"seed"``: ``−g₀ Δt`` as printed in eq. (49).
     """
-    sa = np.broadcast_to(as_finite_array("sigma_accel_m_s2", sigma_accel_m_s2), (3,)).astype(float)
+    sa = np.broadcast_to(as_finite_array("accel_sigma_m_s2", accel_sigma_m_s2), (3,)).astype(float)
     if np.any(sa <= 0):
-        raise ValueError(f"sigma_accel_m_s2: expected positive values, got {sa.tolist()}")
-    sr = as_positive("sigma_yaw_rate_rad_s", sigma_yaw_rate_rad_s)
+        raise ValueError(f"accel_sigma_m_s2: expected positive values, got {sa.tolist()}")
+    sr = as_positive("yaw_rate_sigma_rad_s", yaw_rate_sigma_rad_s)
     if gravity not in ("ned", "seed"):
         raise ValueError(f"gravity: expected 'ned' or 'seed', got {gravity!r}")
     g_n = np.array([0.0, 0.0, G0 if gravity == "ned" else -G0])
@@ -79,12 +79,12 @@ def quad3d_model(sigma_accel_m_s2, sigma_yaw_rate_rad_s: float, gravity: str = "
                  g=g, G=G, Q=Q, name=f"quad3d ({gravity})")
 
 
-def quad3d_gps_sensor(sigma_pos_m=(0.7, 0.7, 2.0), sigma_vel_m_s=(0.1, 0.1, 0.3), rate_hz: float | None = 10.0
+def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3), rate_hz: float | None = 10.0
                       ) -> Sensor:
     """GPS position and velocity (eqs. 53–55): ``h(x) = x[:6]``, ``H = [I₆ 0]``."""
-    sigma = np.concatenate([as_vector("sigma_pos_m", sigma_pos_m, 3), as_vector("sigma_vel_m_s", sigma_vel_m_s, 3)])
+    sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):
-        raise ValueError(f"sigma_pos_m, sigma_vel_m_s: expected positive values, got {sigma.tolist()}")
+        raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
     H = np.hstack([np.eye(6), np.zeros((6, 1))])
     return Sensor(name="gps", measurement_names=("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]"),
                   h=lambda x: x[:6], H=lambda x: H, R=np.diag(sigma**2), rate_hz=rate_hz)

@@ -96,5 +96,5 @@ def test_quad1d_is_linear_and_its_noise_is_a_held_acceleration():
     Q = model.Q(dt)
     np.testing.assert_allclose(Q, 0.25 * np.array([[dt**2, dt**3 / 2], [dt**3 / 2, dt**4 / 4]]))
     assert np.linalg.matrix_rank(Q) == 1
-    with pytest.raises(ValueError, match="sigma_accel_m_s2"):
+    with pytest.raises(ValueError, match="accel_sigma_m_s2"):
         quad1d_model(-1.0)
