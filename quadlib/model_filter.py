@@ -72,6 +72,7 @@ class ModelFilter:
         self._q_dt = self.dt
         self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_P)  # checked once
         self.nominal = x0 if model.is_error_state else None
+        self._settles = model.is_error_state or model.normalize is not None  # else a step ends as filterpy left it
         return np.zeros(model.dim_P) if model.is_error_state else x0
 
     @property
@@ -88,6 +89,10 @@ class ModelFilter:
         if abs(dt - self._q_dt) > 1e-9 * dt:
             self._q_dt, self._q = dt, np.asarray(self.model.Q(dt), dtype=float)
         return self._q
+
+    def state_view(self) -> np.ndarray:
+        """The current state ``(n,)`` without a copy (read it, do not write it); see :attr:`estimate`."""
+        return self.nominal if self.nominal is not None else self.x.reshape(-1)
 
     def _sensor_functions(self, sensor: Sensor, context):
         """``h(x)`` and ``H(x)`` of ``sensor`` for this sample (its context bound)."""
@@ -125,7 +130,8 @@ class ModelFilter:
     def predict_unchecked(self, u: np.ndarray, dt: float) -> None:
         """:meth:`predict` without argument checks, for loops that validated their whole log first."""
         self._predict(u, dt)
-        self._settle()
+        if self._settles:
+            self._settle()
 
     def update_sensor(self, sensor: Sensor, z, gate_probability: float | None = None, context=None) -> Innovation:
         """Update with one sample of ``sensor``.
@@ -170,7 +176,8 @@ class ModelFilter:
         nis = float(y @ self.SI.reshape(k, k) @ y)  # filterpy has already inverted S
         accepted = gate is None or nis <= gate
         if accepted:
-            self._settle()
+            if self._settles:
+                self._settle()
         else:
             self.x, self.P, self.nominal = saved
             self.x_post, self.P_post = saved[0].copy(), saved[1].copy()

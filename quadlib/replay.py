@@ -150,7 +150,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
             filt.predict_unchecked(inputs[k - 1], dts[k - 1])
         for i, j, sensor, z, gate, c in schedule.get(k, ()):
             done.append((i, j, filt.update_unchecked(sensor, z, gate, c)))
-        xs[k] = filt.estimate
+        xs[k] = filt.state_view()  # copied into xs
         Ps[k] = filt.P
 
     traces = []
