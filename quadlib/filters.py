@@ -218,6 +218,8 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
     ``ModelUKF`` compares values, so ``f.x[0] = 5`` and ``f.x = new`` act alike.
     """
 
+    needs_jacobians = False
+
     def __init__(self, model: Model, x0, P0, dt: float, *, alpha: float = 0.5, beta: float = 2.0,
                  kappa: float = 0.0, points=None, x_mean_fn=None, residual_x=None, state_add=None):
         x0 = self._setup(model, x0, P0, dt)

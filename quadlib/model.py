@@ -184,10 +184,11 @@ class Sensor:
         Names of the ``k`` measured components, with units.
     h : callable ``h(x) -> (k,)``
         Expected measurement for state ``x``.
-    H : callable ``H(x) -> (k, n)``
-        Jacobian of ``h``.
     R : (k, k) array_like
         Measurement-noise covariance (variances, not standard deviations).
+    H : callable ``H(x) -> (k, n)``, optional
+        Jacobian of ``h``. Required by the EKF and the linear KF; the UKF does
+        not use it.
     residual : callable ``residual(z, z_hat) -> (k,)``, optional
         Innovation ``z - z_hat``; give one that wraps angles to (-pi, pi].
         The default ``np.subtract`` lets the filters take their fast path.
@@ -206,8 +207,8 @@ class Sensor:
     name: str
     measurement_names: tuple[str, ...]
     h: Callable[[Array], Array]
-    H: Callable[[Array], Array]
     R: Array
+    H: Callable[[Array], Array] | None = None
     residual: Callable[[Array, Array], Array] = np.subtract
     mean: Callable[[Array, Array], Array] | None = None
     rate_hz: float | None = field(default=None)
@@ -226,7 +227,7 @@ class Sensor:
         if self.context_names:
             ctx = _check_names(f"Sensor({self.name!r})", "context_names", self.context_names)
             object.__setattr__(self, "context_names", ctx)
-        for attr in ("h", "H", "residual") + (("mean",) if self.mean is not None else ()):
+        for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable")
 

@@ -112,6 +112,17 @@ class ModelFilter:
         elif m.normalize is not None:
             self.x = np.asarray(m.normalize(self.x.reshape(-1)), dtype=float).reshape(self.x.shape)
 
+    needs_jacobians = True  # the UKF sets False
+
+    def check_sensor(self, sensor, name: str = "sensor") -> Sensor:
+        """Return ``sensor`` if this filter can update with it, else raise ``TypeError``/``ValueError``."""
+        if not isinstance(sensor, Sensor):
+            raise TypeError(f"{name}: expected a quadlib Sensor, got {type(sensor).__name__}")
+        if self.needs_jacobians and sensor.H is None:
+            raise ValueError(f"{name}: {sensor.name!r} has no Jacobian H; {type(self).__name__} needs one "
+                             "(ModelUKF does not)")
+        return sensor
+
     def _check_finite(self, step: str) -> None:
         # one reduction: a sum is finite only if every term is (or it overflows, near 1e308)
         total = self.x.sum() + self.P.sum() + (0.0 if self.nominal is None else self.nominal.sum())
@@ -153,8 +164,7 @@ class ModelFilter:
         -------
         Innovation
         """
-        if not isinstance(sensor, Sensor):
-            raise TypeError(f"sensor: expected a quadlib Sensor, got {type(sensor).__name__}")
+        sensor = self.check_sensor(sensor)
         z = sensor.check_measurement(z)
         context = sensor.check_context(context)
         gate = None

@@ -107,6 +107,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     for i, m in enumerate(measurements):
         if not isinstance(m, Measurements):
             raise TypeError(f"measurements[{i}]: expected Measurements, got {type(m).__name__}")
+        filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
         if m.t.size and (m.t[0] < t[0] - _TIME_TOL_S or m.t[-1] > t[-1] + _TIME_TOL_S):
             raise ValueError(
                 f"measurements[{i}] ({m.sensor.name!r}).t: expected times within "

@@ -292,3 +292,12 @@ def test_model_and_filter_arguments_for_the_new_features_are_checked():
         LinearKF(_additive_as_error_state(constant_velocity()), [0.0, 0.0], np.eye(2), 0.1)
     with pytest.raises(ValueError, match="error-state model; its own state_add and residual_x are used"):
         ModelUKF(_additive_as_error_state(model), [0.0, 0.0], np.eye(2), 0.1, residual_x=np.subtract)
+
+
+def test_a_sensor_without_jacobian_serves_the_ukf_and_is_refused_by_the_ekf():
+    model, sensor = pendulum()
+    no_jacobian = replace(sensor, H=None)
+    ukf = ModelUKF(model, [0.2, 0.0], np.eye(2) * 0.05, 0.05)
+    ukf.update_sensor(no_jacobian, [0.25])
+    with pytest.raises(ValueError, match="sensor: 'horiz' has no Jacobian H; ModelEKF needs one"):
+        ModelEKF(model, [0.2, 0.0], np.eye(2) * 0.05, 0.05).update_sensor(no_jacobian, [0.25])

@@ -7,11 +7,13 @@ in the navigation frame (eq. 2.67), ``a_z = −(R_nb f_b)_z``, about +g₀ at re
 
 .. math::
 
-    x_{k+1} = \\begin{bmatrix} 1 & \\tau & -\\tau^2/2 \\\\ 0 & 1 & -\\tau \\\\ 0 & 0 & 1 - w \\end{bmatrix} x_k
-        + \\begin{bmatrix} \\tau^2/2 \\\\ \\tau \\\\ w \\end{bmatrix} a_z
+    x_{k+1} = \\begin{bmatrix} 1 & \\Delta t & -\\Delta t^2/2 \\\\ 0 & 1 & -\\Delta t \\\\
+                              0 & 0 & 1 - w \\end{bmatrix} x_k
+        + \\begin{bmatrix} \\Delta t^2/2 \\\\ \\Delta t \\\\ w \\end{bmatrix} a_z
 
 so the vertical acceleration is ``a_z − g̃`` and g̃ follows ``a_z`` through a first-order low-pass
-with weight ``w`` per step (Kesten's τ_X, left without a value in the thesis). The input noise
+with weight ``w`` per step (Kesten's τ_X, left without a value in the thesis; Kesten writes τ for the
+sample period Δt). The input noise
 (σ_a) enters through the same vector (eqs. 2.69–2.70). Source: Kesten (2010), eqs. (2.67)–(2.72),
 (4.14)–(4.15).
 """
