@@ -178,6 +178,19 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
                                     residual=residual)
 
 
+def _positive_definite(P: np.ndarray) -> np.ndarray:
+    """``P`` symmetrised and, if rounding made it indefinite, with its eigenvalues raised to a
+    floor of 1e-12 of the largest. The UKF's ``P − K S Kᵀ`` (unlike the EKF's Joseph form) loses
+    definiteness when a very precise sensor meets a very uncertain state."""
+    P = 0.5 * (P + P.T)
+    try:
+        np.linalg.cholesky(P)
+        return P
+    except np.linalg.LinAlgError:
+        w, V = np.linalg.eigh(P)
+        return (V * np.maximum(w, 1e-12 * max(float(w.max()), np.finfo(float).tiny))) @ V.T
+
+
 def _no_default_hx(x):
     raise RuntimeError("ModelUKF has no default measurement function: call update_sensor(sensor, z)")
 
@@ -272,4 +285,5 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         self.residual_z = sensor.residual
         self.z_mean = sensor.mean
         UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=hx)
+        self.P = _positive_definite(self.P)
         self._drawn = (None, None)

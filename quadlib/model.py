@@ -201,7 +201,16 @@ class Sensor:
         Names of per-sample values that ``h`` and ``H`` need besides the state
         (the fixed-wing accelerometer needs the gyro rates and the airspeed).
         Given, they are called ``h(x, c)`` and ``H(x, c)``, and each sample
-        carries its own ``c`` (see :class:`~quadlib.replay.Measurements`).
+        carries its own ``c`` (see :class:`~quadlib.samples.Measurements`).
+    groups : tuple of tuples of int, optional
+        Components gated together, a partition of ``range(k)`` (GPS: position
+        ``(0, 1, 2)`` and velocity ``(3, 4, 5)``). A gate tests each group's
+        NIS on its own and updates with the groups that pass. Default: one group.
+    reset_after_s : float, optional
+        When a group has been rejected by the gate continuously for longer than
+        this [s], :func:`~quadlib.replay.run_filter` inflates the covariance
+        along that group's directions by the discrepancy and accepts it again
+        (a reset). ``None``: never (a gate can then lock the sensor out for good).
     """
 
     name: str
@@ -213,6 +222,8 @@ class Sensor:
     mean: Callable[[Array, Array], Array] | None = None
     rate_hz: float | None = field(default=None)
     context_names: tuple[str, ...] = ()
+    groups: tuple[tuple[int, ...], ...] = ()
+    reset_after_s: float | None = None
 
     def __post_init__(self):
         names = _check_names(f"Sensor({self.name!r})", "measurement_names", self.measurement_names)
@@ -227,6 +238,14 @@ class Sensor:
         if self.context_names:
             ctx = _check_names(f"Sensor({self.name!r})", "context_names", self.context_names)
             object.__setattr__(self, "context_names", ctx)
+        groups = tuple(tuple(int(i) for i in g) for g in self.groups) or (tuple(range(len(names))),)
+        if sorted(i for g in groups for i in g) != list(range(len(names))) or any(not g for g in groups):
+            raise ValueError(f"Sensor({self.name!r}).groups: expected a partition of range({len(names)}), "
+                             f"got {self.groups!r}")
+        object.__setattr__(self, "groups", groups)
+        if self.reset_after_s is not None:
+            object.__setattr__(self, "reset_after_s",
+                               as_positive(f"Sensor({self.name!r}).reset_after_s", self.reset_after_s))
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable")
@@ -248,6 +267,31 @@ class Sensor:
                 raise ValueError(f"{name} ({self.name}): expected None (the sensor has no context_names), got {c!r}")
             return None
         return as_vector(f"{name} ({self.name})", c, self.dim_c)
+
+    def subset(self, rows) -> Sensor:
+        """The same sensor measuring only components ``rows``: for updating with the groups a gate passed.
+
+        ``residual`` and ``mean`` are applied to the full vector with the other components set to
+        zero, so they must act component by component (as wrapping an angle does).
+        """
+        rows = np.asarray(rows, dtype=int)
+        k = self.dim_z
+
+        def embed(v):
+            full = np.zeros(v.shape[:-1] + (k,))
+            full[..., rows] = v
+            return full
+
+        has_c = bool(self.dim_c)
+        h = (lambda x, c: self.h(x, c)[rows]) if has_c else (lambda x: self.h(x)[rows])
+        H = None
+        if self.H is not None:
+            H = (lambda x, c: np.asarray(self.H(x, c))[rows]) if has_c else (lambda x: np.asarray(self.H(x))[rows])
+        mean = None if self.mean is None else (lambda Z, w: self.mean(embed(Z), w)[rows])
+        residual = np.subtract if self.residual is np.subtract else (
+            lambda a, b: np.asarray(self.residual(embed(a), embed(b)))[rows])
+        return Sensor(name=self.name, measurement_names=tuple(self.measurement_names[i] for i in rows), h=h, H=H,
+                      R=self.R[np.ix_(rows, rows)], residual=residual, mean=mean, context_names=self.context_names)
 
     def check_measurement(self, z, name: str = "z") -> Array:
         """Return ``z`` as a finite ``(k,)`` vector or raise ``ValueError``."""

@@ -17,7 +17,7 @@ from scipy.stats import chi2
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_covariance, as_positive, as_probability, as_vector
 
-__all__ = ["Innovation", "ModelFilter", "gate_threshold"]
+__all__ = ["Innovation", "ModelFilter", "gate_threshold", "group_gates"]
 
 
 class Innovation(NamedTuple):
@@ -32,19 +32,32 @@ class Innovation(NamedTuple):
     nis : float
         Normalised innovation squared ``yᵀ S⁻¹ y`` (χ² with k dof if consistent).
     accepted : bool
-        False when the gate rejected the sample and the state was left unchanged.
+        False when the gate rejected every group and the state was left unchanged.
+    rejected_groups : tuple of int
+        Indices into ``sensor.groups`` of the groups the gate rejected (their components were
+        not used; the other groups updated the state).
+    reset : bool
+        The covariance was inflated along a locked-out group before this update (see
+        :meth:`ModelFilter.inflate_toward`).
     """
 
     y: np.ndarray
     S: np.ndarray
     nis: float
     accepted: bool
+    rejected_groups: tuple = ()
+    reset: bool = False
 
 
 @lru_cache(maxsize=64)
 def gate_threshold(dim_z: int, probability: float) -> float:
     """χ² quantile used as the NIS gate for a ``dim_z``-dimensional measurement."""
     return float(chi2.ppf(probability, dim_z))
+
+
+def group_gates(sensor: Sensor, probability: float) -> tuple[float, ...]:
+    """The NIS threshold of each of ``sensor.groups`` at ``probability``."""
+    return tuple(gate_threshold(len(g), probability) for g in sensor.groups)
 
 
 class ModelFilter:
@@ -68,7 +81,7 @@ class ModelFilter:
         x0 = as_vector("x0", x0, model.dim_x)
         if model.normalize is not None:
             x0 = as_vector("normalize(x0)", model.normalize(x0), model.dim_x)
-        self._P0 = as_covariance("P0", P0, model.dim_P)
+        self._P0 = as_covariance("P0", P0, model.dim_P, definite=True)
         self._q_dt = self.dt
         self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_P)  # checked once
         self.nominal = x0 if model.is_error_state else None
@@ -86,8 +99,9 @@ class ModelFilter:
         # Q depends on dt only. A uniform time grid asks for the same dt every step, up to float
         # jitter (the differences of 0.02 * arange(N) vary in the last bits), so Q(dt) is reused
         # while dt stays within a relative 1e-9 of the dt it was computed for.
-        if abs(dt - self._q_dt) > 1e-9 * dt:
-            self._q_dt, self._q = dt, np.asarray(self.model.Q(dt), dtype=float)
+        if abs(dt - self._q_dt) > 1e-9 * dt:  # a new dt: its Q is checked like the first one
+            self._q_dt, self._q = dt, as_covariance(f"{self.model.name}.Q(dt={dt:g})", self.model.Q(dt),
+                                                    self.model.dim_P)
         return self._q
 
     def state_view(self) -> np.ndarray:
@@ -154,9 +168,9 @@ class ModelFilter:
         z : (k,) array_like
             The sample; must be finite (drop missing samples before calling).
         gate_probability : float in (0, 1), optional
-            If given, a sample whose NIS exceeds the χ² quantile of this
-            probability (``k`` dof) is rejected: the state and covariance are
-            left as they were and ``accepted`` is False.
+            If given, each of ``sensor.groups`` whose NIS exceeds the χ² quantile
+            of this probability is rejected; the state is updated with the groups
+            that pass (and left as it was when none does: ``accepted`` is False).
         context : (c,) array_like, optional
             The sample's context, for a sensor with ``context_names``.
 
@@ -167,28 +181,75 @@ class ModelFilter:
         sensor = self.check_sensor(sensor)
         z = sensor.check_measurement(z)
         context = sensor.check_context(context)
-        gate = None
+        gates = None
         if gate_probability is not None:
-            gate = gate_threshold(sensor.dim_z, as_probability("gate_probability", gate_probability))
-        innovation = self.update_unchecked(sensor, z, gate, context)
+            gates = group_gates(sensor, as_probability("gate_probability", gate_probability))
+        innovation = self.update_unchecked(sensor, z, gates, context)
         self._check_finite("update_sensor")
         return innovation
 
-    def update_unchecked(self, sensor: Sensor, z: np.ndarray, gate: float | None = None,
-                         context: np.ndarray | None = None) -> Innovation:
-        """:meth:`update_sensor` without argument checks; ``gate`` is the NIS threshold itself."""
-        if gate is not None:
+    def update_unchecked(self, sensor: Sensor, z: np.ndarray, gates: tuple[float, ...] | None = None,
+                         context: np.ndarray | None = None, force: tuple[int, ...] = ()) -> Innovation:
+        """:meth:`update_sensor` without argument checks. ``gates`` holds the NIS threshold of each
+        of ``sensor.groups`` (:func:`group_gates`); groups listed in ``force`` pass whatever their NIS."""
+        if gates is not None:
             saved = (self.x.copy(), self.P.copy(), None if self.nominal is None else self.nominal.copy())
+            self._before_update = saved
         self._update(sensor, z, context)
         k = sensor.dim_z
         y = self.y.reshape(k)
         S = self.S.reshape(k, k)
         nis = float(y @ self.SI.reshape(k, k) @ y)  # filterpy has already inverted S
-        accepted = gate is None or nis <= gate
-        if accepted:
-            if self._settles:
-                self._settle()
-        else:
+        rejected = ()
+        if gates is not None:
+            if len(sensor.groups) == 1:
+                rejected = (0,) if nis > gates[0] and 0 not in force else ()
+            else:
+                rejected = tuple(i for i, g in enumerate(sensor.groups) if i not in force
+                                 and float(y[list(g)] @ np.linalg.solve(S[np.ix_(g, g)], y[list(g)])) > gates[i])
+        if rejected:
             self.x, self.P, self.nominal = saved
             self.x_post, self.P_post = saved[0].copy(), saved[1].copy()
-        return Innovation(y, S, nis, accepted)
+            keep = sorted(i for n, g in enumerate(sensor.groups) if n not in rejected for i in g)
+            if keep:  # the groups that passed update the state on their own
+                self._update(sensor.subset(keep), z[keep], context)
+                if self._settles:
+                    self._settle()
+            return Innovation(y, S, nis, bool(keep), rejected)
+        if self._settles:
+            self._settle()
+        return Innovation(y, S, nis, True)
+
+    def undo_last_update(self) -> None:
+        """Return to the state before the last gated :meth:`update_unchecked` (for a reset)."""
+        x, P, nominal = self._before_update
+        self.x, self.P, self.nominal = x.copy(), P.copy(), None if nominal is None else nominal.copy()
+
+    def inflate_toward(self, sensor: Sensor, z: np.ndarray, groups: tuple[int, ...], context=None) -> None:
+        """Widen ``P`` so that the components of ``groups`` become plausible again (a reset).
+
+        With ``J = ∂h(x ⊞ δ)/∂δ`` (rows of ``groups``, by central differences) and the innovation
+        ``y`` of those rows, ``P ← P + J⁺ diag(y²) J⁺ᵀ``: each measured direction gets the variance
+        of the discrepancy it shows, so the next update moves the state most of the way to the
+        measurement. For a sensor that measures states directly (GPS position) this adds ``y_i²``
+        to the variance of state ``i``.
+        """
+        rows = sorted(i for n in groups for i in sensor.groups[n])
+        h, _ = self._sensor_functions(sensor, context)
+        x = self.state_view().copy()
+        z_hat = np.asarray(h(x), dtype=float)
+        y = np.asarray(sensor.residual(z, z_hat), dtype=float)[rows]
+        eps = 1e-6 * (1.0 + np.abs(np.sqrt(np.diag(self.P))))
+        J = np.empty((len(rows), self.P.shape[0]))
+        for j in range(self.P.shape[0]):
+            d = np.zeros(self.P.shape[0])
+            d[j] = eps[j]
+            plus, minus = h(self._apply_error(x, d)), h(self._apply_error(x, -d))
+            J[:, j] = np.asarray(sensor.residual(plus, minus), dtype=float)[rows] / (2 * eps[j])
+        J_pinv = np.linalg.pinv(J)
+        self.P = self.P + J_pinv @ np.diag(y**2) @ J_pinv.T
+        self.P = 0.5 * (self.P + self.P.T)
+
+    def _apply_error(self, x, d):
+        m = self.model
+        return m.state_add(x, d) if m.is_error_state else x + d

@@ -1,16 +1,24 @@
-"""Replay a multi-rate sensor log through a filter.
+"""Replay a multi-rate sensor log through a filter: the one loop that drives every quadlib filter.
 
-The timeline: inputs ``u[k]`` are given at times ``t[k]`` and hold over
-``[t[k], t[k+1])``. The filter starts at ``t[0]``; at each later ``t[k]`` it
-predicts over ``t[k] - t[k-1]`` with ``u[k-1]``, then applies every sensor
-sample whose timestamp falls in ``(t[k-1], t[k]]`` (samples at exactly
-``t[0]`` are applied before the first predict). A sample is thus applied at
-the first prediction time at or after its timestamp — at most one input
-period late; simulate sensors on the input grid to avoid even that.
+The timeline: inputs ``u[k]`` are given at times ``t[k]`` and hold over ``[t[k], t[k+1])``. The
+filter starts at ``t[0]``; at each later ``t[k]`` it predicts over ``t[k] - t[k-1]`` with
+``u[k-1]``, then applies every sensor sample whose timestamp falls in ``(t[k-1], t[k]]`` (samples
+at ``t[0]`` are applied before the first predict). A sample is thus applied at the first
+prediction time at or after its timestamp — at most one input period late; simulate sensors on
+the input grid to avoid even that. Times are compared to within the precision they were given in
+(a float32 log is not pushed a step late by its rounding).
 
-A missing sample is a row of NaN in ``z``: it is skipped and counted, and the
-filter keeps predicting (a dropout). With ``gate_probability`` set, samples
-whose NIS exceeds the χ² quantile are rejected and counted (outliers).
+Bad data is handled, and counted, rather than fatal:
+
+* a missing sample is a row of NaN (in ``z`` or in its context): it is skipped (a dropout);
+* a row of NaN in ``u`` holds the previous input (zero-order hold) and is flagged in the result;
+* a sample whose timestamp repeats the one before it is dropped (it would be fused twice);
+* with ``gate_probability`` set, each of a sensor's measurement groups is gated on its own NIS;
+  a group rejected for longer than the sensor's ``reset_after_s`` is reset (its covariance is
+  widened to the discrepancy, :meth:`~quadlib.model_filter.ModelFilter.inflate_toward`) and used
+  again — a gate that would otherwise lock the sensor out for good.
+
+Every argument is checked before the filter is touched, so a bad log leaves it unchanged.
 """
 
 from __future__ import annotations
@@ -19,13 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.model_filter import ModelFilter, gate_threshold
-from quadlib.samples import Measurements
+from quadlib.model_filter import ModelFilter, group_gates
+from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_probability, as_times
 
 __all__ = ["FilterRun", "SensorTrace", "run_filter"]
-
-_TIME_TOL_S = 1e-9
 
 
 @dataclass(frozen=True)
@@ -35,12 +41,14 @@ class SensorTrace:
     Attributes
     ----------
     t : (K,) sample times [s]
-    innovation : (K, k) innovations; NaN where the sample was missing
-    S : (K, k, k) innovation covariances; NaN where missing
-    nis : (K,) normalised innovation squared; NaN where missing
-    used : (K,) bool, the sample updated the state
-    rejected : (K,) bool, the gate rejected the sample
-    missing : (K,) bool, the sample was NaN
+    innovation : (K, k) innovations; NaN where the sample was not applied
+    S : (K, k, k) innovation covariances; NaN where not applied
+    nis : (K,) normalised innovation squared; NaN where not applied
+    used : (K,) bool, the sample (or at least one of its groups) updated the state
+    rejected : (K,) bool, the gate rejected the sample or one of its groups
+    reset : (K,) bool, the sample ended a lock-out: the covariance was widened and it was used
+    missing : (K,) bool, the sample or its context was NaN
+    duplicate : (K,) bool, the sample repeated the previous timestamp and was dropped
     """
 
     t: np.ndarray
@@ -49,7 +57,9 @@ class SensorTrace:
     nis: np.ndarray
     used: np.ndarray
     rejected: np.ndarray
+    reset: np.ndarray
     missing: np.ndarray
+    duplicate: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -62,17 +72,41 @@ class FilterRun:
     x : (N, n) posterior means at ``t``
     P : (N, p, p) posterior covariances at ``t`` (over the error state for an error-state model)
     sensors : dict of sensor name -> SensorTrace
+    held_input : (N,) bool, ``u[k]`` was NaN and the previous input was used instead
     """
 
     t: np.ndarray
     x: np.ndarray
     P: np.ndarray
     sensors: dict
+    held_input: np.ndarray
 
     @property
     def sigma(self) -> np.ndarray:
         """(N, p) standard deviations, the square roots of the diagonal of ``P``."""
         return np.sqrt(np.clip(np.diagonal(self.P, axis1=1, axis2=2), 0.0, None))
+
+
+def _held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Inputs with NaN rows replaced by the previous row, and which rows were."""
+    if u is None or model.dim_u == 0:
+        return model.check_inputs(u, n), np.zeros(n, bool)
+    arr = np.array(u, dtype=float)
+    if arr.ndim == 1 and model.dim_u == 1:
+        arr = arr.reshape(-1, 1)
+    if arr.shape != (n, model.dim_u):
+        raise ValueError(f"u: expected shape ({n}, {model.dim_u}), got {arr.shape}")
+    if np.isinf(arr).any():
+        raise ValueError(f"u: expected finite inputs or NaN rows for missing ones, got inf at row "
+                         f"{int(np.argmax(np.isinf(arr).any(axis=1)))}")
+    held = np.isnan(arr).any(axis=1)
+    if held[:-1].any():  # the last row is never used
+        if held[0]:
+            raise ValueError("u: expected a finite first input to hold over later NaN rows, got NaN in row 0")
+        rows = np.where(held, 0, np.arange(n))
+        arr = arr[np.maximum.accumulate(rows)]
+    held[-1] = False
+    return arr, held
 
 
 def run_filter(filt, t, u, measurements, gate_probability: float | None = None) -> FilterRun:
@@ -85,11 +119,13 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     t : (N,) array_like
         Strictly increasing input times [s]; ``t[0]`` is the time of the initial state.
     u : (N, m) array_like, or None when the model has no input
-        Inputs; ``u[k]`` holds over ``[t[k], t[k+1])`` (the last row is unused).
+        Inputs; ``u[k]`` holds over ``[t[k], t[k+1])`` (the last row is unused). A NaN row holds
+        the previous input.
     measurements : sequence of Measurements
         One entry per sensor, applied in the given order when they share a step.
     gate_probability : float in (0, 1), optional
-        NIS gate for every sensor (see ``update_sensor``).
+        χ² gate on the NIS of each of a sensor's groups (see ``update_sensor``), with the timed
+        reset of each sensor's ``reset_after_s``.
 
     Returns
     -------
@@ -97,10 +133,11 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     """
     if not isinstance(filt, ModelFilter):
         raise TypeError(f"filt: expected a LinearKF, ModelEKF or ModelUKF, got {type(filt).__name__}")
+    grid_resolution = time_resolution(t)
     t = as_times("t", t)
     N = t.shape[0]
     model = filt.model
-    u = model.check_inputs(u, N)
+    u, held = _held_inputs(model, u, N)
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
     measurements = list(measurements)
@@ -108,7 +145,8 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
         if not isinstance(m, Measurements):
             raise TypeError(f"measurements[{i}]: expected Measurements, got {type(m).__name__}")
         filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
-        if m.t.size and (m.t[0] < t[0] - _TIME_TOL_S or m.t[-1] > t[-1] + _TIME_TOL_S):
+        tol = max(grid_resolution, m.time_resolution_s)
+        if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
             raise ValueError(
                 f"measurements[{i}] ({m.sensor.name!r}).t: expected times within "
                 f"[{t[0]:.6g}, {t[-1]:.6g}] s, got [{m.t[0]:.6g}, {m.t[-1]:.6g}] s"
@@ -118,52 +156,64 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
         raise ValueError(f"measurements: expected one entry per sensor name, got {names}")
 
     # Events (step index, sensor index, sample index), sorted by step then sensor order.
-    steps, sensor_idx, sample_idx = [], [], []
-    for i, m in enumerate(measurements):
-        steps.append(np.searchsorted(t, m.t - _TIME_TOL_S, side="left"))
-        sensor_idx.append(np.full(m.t.shape[0], i))
-        sample_idx.append(np.arange(m.t.shape[0]))
-    if measurements:
-        steps, sensor_idx, sample_idx = (np.concatenate(a) for a in (steps, sensor_idx, sample_idx))
-        order = np.lexsort((sample_idx, sensor_idx, steps))
-        events = list(zip(steps[order].tolist(), sensor_idx[order].tolist(), sample_idx[order].tolist(),
-                          strict=True))
-    else:
-        events = []
-
-    missing = [m.missing for m in measurements]
-    gates = [None if gate_probability is None else gate_threshold(m.sensor.dim_z, gate_probability)
-             for m in measurements]
     schedule: dict[int, list] = {}  # step -> the updates applied after its predict
-    for k, i, j in events:
-        if not missing[i][j]:
-            m = measurements[i]
+    missing, duplicate = [], []
+    for i, m in enumerate(measurements):
+        tol = max(grid_resolution, m.time_resolution_s)
+        steps = np.searchsorted(t, m.t - tol, side="left")
+        dup = np.r_[False, np.diff(m.t) <= tol]
+        miss = m.missing & ~dup
+        missing.append(miss)
+        duplicate.append(dup)
+        gates = None if gate_probability is None else group_gates(m.sensor, gate_probability)
+        for j in np.flatnonzero(~miss & ~dup):
             c = None if m.context is None else m.context[j]
-            schedule.setdefault(k, []).append((i, j, m.sensor, m.z[j], gates[i], c))
+            schedule.setdefault(int(steps[j]), []).append((i, int(j), m.sensor, m.z[j], gates, c))
+    for updates in schedule.values():
+        updates.sort(key=lambda e: (e[0], e[1]))
 
     # Everything was validated above, so the loop uses the filter's unchecked steps
     # and the whole trajectory is checked for non-finite values once at the end.
     xs, Ps = np.empty((N, model.dim_x)), np.empty((N, model.dim_P, model.dim_P))
     inputs, dts = list(u), np.diff(t).tolist()
     done = []  # (sensor index, sample index, Innovation)
+    locked_since = [[None] * len(m.sensor.groups) for m in measurements]  # per sensor and group
     for k in range(N):
         if k:
             filt.predict_unchecked(inputs[k - 1], dts[k - 1])
-        for i, j, sensor, z, gate, c in schedule.get(k, ()):
-            done.append((i, j, filt.update_unchecked(sensor, z, gate, c)))
+        for i, j, sensor, z, gates, c in schedule.get(k, ()):
+            inn = filt.update_unchecked(sensor, z, gates, c)
+            if inn.rejected_groups and sensor.reset_after_s is not None:
+                t_j = measurements[i].t[j]
+                since = locked_since[i]
+                expired = tuple(g for g in inn.rejected_groups
+                                if since[g] is not None and t_j - since[g] >= sensor.reset_after_s)
+                for g in inn.rejected_groups:
+                    since[g] = t_j if since[g] is None else since[g]
+                if expired:  # undo the partial update, widen P along the locked-out groups, use them
+                    filt.undo_last_update()
+                    filt.inflate_toward(sensor, z, expired, c)
+                    inn = filt.update_unchecked(sensor, z, gates, c, force=expired)._replace(reset=True)
+                    for g in expired:
+                        since[g] = None
+            if gates is not None:
+                for g in range(len(sensor.groups)):
+                    if g not in inn.rejected_groups:
+                        locked_since[i][g] = None
+            done.append((i, j, inn))
         xs[k] = filt.state_view()  # copied into xs
         Ps[k] = filt.P
 
     traces = []
     for i, m in enumerate(measurements):
-        K, k = m.z.shape
-        traces.append(dict(innovation=np.full((K, k), np.nan), S=np.full((K, k, k), np.nan),
+        K, kz = m.z.shape
+        traces.append(dict(innovation=np.full((K, kz), np.nan), S=np.full((K, kz, kz), np.nan),
                            nis=np.full(K, np.nan), used=np.zeros(K, bool), rejected=np.zeros(K, bool),
-                           missing=missing[i]))
+                           reset=np.zeros(K, bool), missing=missing[i], duplicate=duplicate[i]))
     for i, j, inn in done:
         tr = traces[i]
         tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
-        tr["used"][j], tr["rejected"][j] = inn.accepted, not inn.accepted
+        tr["used"][j], tr["rejected"][j], tr["reset"][j] = inn.accepted, bool(inn.rejected_groups), inn.reset
     bad = ~np.isfinite(xs).all(axis=1) | ~np.isfinite(Ps).all(axis=(1, 2))
     if bad.any():
         k = int(np.argmax(bad))
@@ -172,4 +222,4 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
             "check the model, Q, R and the inputs"
         )
     sensors = {m.sensor.name: SensorTrace(t=m.t, **tr) for m, tr in zip(measurements, traces, strict=True)}
-    return FilterRun(t=t, x=xs, P=Ps, sensors=sensors)
+    return FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held)

@@ -8,7 +8,7 @@ updating it, travel as one :class:`~quadlib.imu.ImuLog`.) Missing samples are ro
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -16,7 +16,16 @@ import numpy as np
 from quadlib.model import Sensor
 from quadlib.validation import as_finite_array
 
-__all__ = ["Measurements", "Samples"]
+__all__ = ["Measurements", "Samples", "time_resolution"]
+
+
+def time_resolution(t) -> float:
+    """The precision of the times ``t`` [s]: four units in the last place of the largest, at the
+    floating-point type they are stored in (at least 1 ns)."""
+    arr = np.asarray(t)
+    if arr.dtype.kind != "f" or arr.size == 0 or not np.isfinite(arr).all():
+        return 1e-9
+    return max(1e-9, 4 * float(np.finfo(arr.dtype).eps) * float(np.max(np.abs(arr))))
 
 
 class Samples(NamedTuple):
@@ -40,20 +49,30 @@ class Measurements:
     context : (K, c) array_like, optional
         Per-sample context for a sensor with ``context_names``; a row
         containing NaN also marks the sample missing.
+
+    A timestamp that repeats the previous one is a duplicate: :func:`~quadlib.replay.run_filter`
+    drops it and counts it. ``time_resolution_s`` is the precision the times were given in
+    (float32 times are good to about 1e-7 of their value), the tolerance when they are matched
+    to the filter's steps.
     """
 
     sensor: Sensor
     t: np.ndarray
     z: np.ndarray
     context: np.ndarray | None = None
+    time_resolution_s: float = field(init=False, default=1e-9)
 
     def __post_init__(self):
         if not isinstance(self.sensor, Sensor):
             raise TypeError(f"Measurements.sensor: expected a quadlib Sensor, got {type(self.sensor).__name__}")
         name = self.sensor.name
+        object.__setattr__(self, "time_resolution_s", time_resolution(self.t))
         t = as_finite_array(f"Measurements({name!r}).t", self.t, ndim=1)
-        if np.any(np.diff(t) < 0):
-            raise ValueError(f"Measurements({name!r}).t: expected non-decreasing times, got a decrease")
+        back = np.flatnonzero(np.diff(t) < 0)
+        if back.size:
+            j = int(back[0]) + 1
+            raise ValueError(f"Measurements({name!r}).t: expected non-decreasing times (sort the log first), got "
+                             f"t[{j}] = {t[j]:.9g} s before t[{j - 1}] = {t[j - 1]:.9g} s")
         z = np.asarray(self.z, dtype=float)
         if z.ndim == 1 and self.sensor.dim_z == 1:
             z = z.reshape(-1, 1)

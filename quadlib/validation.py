@@ -93,12 +93,14 @@ def as_matrix(name: str, value, shape: tuple[int, int]) -> np.ndarray:
     return arr
 
 
-def as_covariance(name: str, value, n: int, rtol: float = 1e-9) -> np.ndarray:
+def as_covariance(name: str, value, n: int, rtol: float = 1e-9, definite: bool = False) -> np.ndarray:
     """Return ``value`` as an ``(n, n)`` symmetric positive semi-definite matrix.
 
     A scalar is accepted for ``n == 1``. Symmetry is checked to a relative
     tolerance ``rtol`` of the largest entry; the smallest eigenvalue may be
-    negative only by that same relative amount (rounding).
+    negative only by that same relative amount (rounding). With ``definite``
+    every eigenvalue must be positive (an initial covariance: a zero variance
+    would never change).
     """
     arr = _to_array(name, value)
     if arr.ndim == 0 and n == 1:
@@ -116,6 +118,9 @@ def as_covariance(name: str, value, n: int, rtol: float = 1e-9) -> np.ndarray:
             f"{name}: expected a positive semi-definite covariance matrix, "
             f"got smallest eigenvalue {min_eig:.3g}"
         )
+    if definite and min_eig <= 0.0:
+        raise ValueError(f"{name}: expected a positive definite covariance matrix, got smallest eigenvalue "
+                         f"{min_eig:.3g}")
     return arr
 
 

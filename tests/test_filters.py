@@ -301,3 +301,18 @@ def test_a_sensor_without_jacobian_serves_the_ukf_and_is_refused_by_the_ekf():
     ukf.update_sensor(no_jacobian, [0.25])
     with pytest.raises(ValueError, match="sensor: 'horiz' has no Jacobian H; ModelEKF needs one"):
         ModelEKF(model, [0.2, 0.0], np.eye(2) * 0.05, 0.05).update_sensor(no_jacobian, [0.25])
+
+
+def test_covariance_stays_positive_definite_and_is_checked_where_it_enters():
+    model = Model(("a",), (), g=lambda x, u, dt: x, G=lambda x, u, dt: np.eye(1), Q=lambda dt: 1e-6 * np.eye(1))
+    precise = Sensor("a", ("a",), h=lambda x: x, H=lambda x: np.eye(1), R=[[1e-12]])
+    ukf = ModelUKF(model, [0.0], [[1e12]], 0.1)  # a very uncertain state meets a very precise sensor
+    ukf.update_sensor(precise, [1.0])
+    assert np.linalg.eigvalsh(ukf.P).min() > 0
+    ukf.predict()  # filterpy's Cholesky of the sigma points would fail on an indefinite P
+    with pytest.raises(ValueError, match="P0: expected a positive definite covariance matrix, got smallest"):
+        ModelEKF(model, [0.0], [[0.0]], 0.1)
+    shrinking = replace(model, Q=lambda dt: (dt - 0.05) * np.eye(1), name="shrinking")
+    f = ModelEKF(shrinking, [0.0], [[1.0]], 0.1)  # Q(0.1) is fine
+    with pytest.raises(ValueError, match=r"shrinking.Q\(dt=0.01\): expected a positive semi-definite"):
+        f.predict(dt=0.01)

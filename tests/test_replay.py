@@ -163,3 +163,55 @@ def test_context_travels_with_each_sample_and_a_nan_context_is_a_missing_sample(
         np.testing.assert_allclose(run.x[k], f.estimate, rtol=1e-14)
     with pytest.raises(ValueError, match=r"Measurements\('gained'\).context: expected shape \(6, 1\)"):
         Measurements(gained, t, z)
+
+
+def test_a_nan_input_row_holds_the_previous_input(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    u_gap = u.copy()
+    u_gap[100:110] = np.nan
+    run = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u_gap, [meas])
+    reference = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u, [meas])  # u is constant: holding is exact
+    np.testing.assert_array_equal(run.x, reference.x)
+    assert run.held_input.sum() == 10 and run.held_input[100:110].all()
+    u_first = u.copy()
+    u_first[0] = np.nan
+    with pytest.raises(ValueError, match="u: expected a finite first input to hold over later NaN rows"):
+        run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u_first, [meas])
+
+
+def test_a_repeated_timestamp_is_dropped_and_counted_not_fused_twice(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    doubled = Measurements(sensor, np.repeat(meas.t, 2), np.repeat(meas.z, 2, axis=0))
+    once = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u, [meas])
+    twice = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u, [doubled])
+    np.testing.assert_array_equal(twice.P, once.P)  # σ does not shrink from fusing a copy
+    trace = twice.sensors[sensor.name]
+    assert trace.duplicate.sum() == meas.t.size and not trace.used[1::2].any()
+
+
+def test_out_of_order_samples_are_named_by_index(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    times = meas.t.copy()
+    times[5], times[6] = times[6], times[5]
+    with pytest.raises(ValueError, match=r"t: expected non-decreasing times \(sort the log first\), got t\[6\]"):
+        Measurements(sensor, times, meas.z)
+
+
+def test_float32_timestamps_are_not_pushed_a_step_late(scenario):
+    model, sensor, t, u, x, meas, rng = scenario
+    exact = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u, [meas])
+    rounded = run_filter(ModelEKF(model, [1.0], [[1.0]], 0.02), t, u,
+                         [Measurements(sensor, meas.t.astype(np.float32), meas.z)])
+    np.testing.assert_array_equal(rounded.x, exact.x)  # times only choose the step: every sample on the same one
+
+
+def test_sensor_groups_must_partition_the_components():
+    from quadlib import Sensor
+
+    with pytest.raises(ValueError, match=r"Sensor\('g'\).groups: expected a partition of range\(3\)"):
+        Sensor("g", ("a", "b", "c"), h=lambda x: x, R=np.eye(3), groups=((0, 1), (1, 2)))
+    s = Sensor("g", ("a", "b", "c"), h=lambda x: x * 2, H=lambda x: 2 * np.eye(3), R=np.diag([1.0, 2.0, 3.0]),
+               groups=((0, 2), (1,)))
+    sub = s.subset([0, 2])
+    np.testing.assert_array_equal(sub.h(np.array([1.0, 2.0, 3.0])), [2.0, 6.0])
+    np.testing.assert_array_equal(sub.R, np.diag([1.0, 3.0]))

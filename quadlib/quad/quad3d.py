@@ -79,15 +79,24 @@ def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "
                  g=g, G=G, Q=Q, name=f"quad3d ({gravity})")
 
 
-def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3), rate_hz: float | None = 10.0
-                      ) -> Sensor:
-    """GPS position and velocity (eqs. 53–55): ``h(x) = x[:6]``, ``H = [I₆ 0]``."""
+def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3), rate_hz: float | None = 10.0,
+                      reset_after_s: float | None = 1.0) -> Sensor:
+    """GPS position and velocity (eqs. 53–55): ``h(x) = x[:6]``, ``H = [I₆ 0]``.
+
+    Position and velocity are gated separately (a jump in position says nothing against the
+    velocity). A group rejected for ``reset_after_s`` [s] is reset and used again: autopilots do
+    the same — PX4's EKF2 resets to GNSS after a rejection timeout, ArduPilot's EKF3 after a retry
+    time of several seconds; 1 s (ten fixes) is short enough to rejoin a receiver within 2 s of a
+    persistent jump or the end of an outage, and long enough that single glitches stay gated.
+    ``None`` keeps the plain gate, which can lock GPS out for good (chapter 8 shows it).
+    """
     sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):
         raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
     H = np.hstack([np.eye(6), np.zeros((6, 1))])
     return Sensor(name="gps", measurement_names=("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]"),
-                  h=lambda x: x[:6], H=lambda x: H, R=np.diag(sigma**2), rate_hz=rate_hz)
+                  h=lambda x: x[:6], H=lambda x: H, R=np.diag(sigma**2), rate_hz=rate_hz,
+                  groups=((0, 1, 2), (3, 4, 5)), reset_after_s=reset_after_s)
 
 
 def _yaw_residual(z, z_hat):
