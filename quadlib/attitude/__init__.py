@@ -8,6 +8,7 @@ from .altitude import (
     pressure_from_altitude,
     vertical_specific_force,
 )
+from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import (
     FILTERS,
@@ -30,6 +31,7 @@ __all__ = [
     "FILTERS",
     "KestenFilter",
     "SEA_LEVEL_HPA",
+    "SensorChecks",
     "altitude_from_pressure",
     "altitude_model",
     "baro_altitude_sensor",
@@ -37,6 +39,8 @@ __all__ = [
     "euler_rate_complementary",
     "linear_complementary",
     "nonlinear_complementary",
+    "plausible_accel",
+    "plausible_mag",
     "pressure_from_altitude",
     "qf",
     "qkf",

@@ -13,6 +13,9 @@ QKF      quaternion (4 × 4)              EKF on a and m separately (eqs. 2.25, 
 QF       quaternion (two variances)      two rotations toward a and m (2.55–2.64)        error-state EKF
 =======  ==============================  ==============================================  ===============
 
+Every filter first drops implausible accelerometer and magnetometer samples (a shock, free fall,
+a magnet, a stuck sensor: :mod:`quadlib.attitude.checks`); the thesis trusts them all.
+
 The "truncated" filters (T…) first compute an attitude from one accelerometer and one
 magnetometer sample (:func:`quadlib.geometry.attitude_from_accel_mag`), so they correct only
 when both are available; QKF and QF use each sensor on its own.
@@ -42,6 +45,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import (
@@ -61,9 +65,6 @@ from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
            "tqf", "tqkf", "vector_jacobian"]
-
-FREE_FALL_M_S2 = 2.0  # below this |f_b| the accelerometer says nothing about the attitude
-
 
 @dataclass(frozen=True)
 class AttitudeNoise(ImuNoise):
@@ -150,26 +151,26 @@ class KestenFilter(NamedTuple):
 
 # --- measured streams -------------------------------------------------------------------------
 
-def _accel(log: ImuLog) -> np.ndarray:
-    """The accelerometer with free-fall samples (|f_b| ≤ 2 m/s²) removed."""
-    a = np.array(log.accel)
-    with np.errstate(invalid="ignore"):
-        a[np.linalg.norm(a, axis=1) <= FREE_FALL_M_S2] = np.nan
-    return a
+def _accel(log: ImuLog, checks: SensorChecks) -> np.ndarray:
+    """The accelerometer, with implausible samples (shock, free fall) removed."""
+    return np.where(plausible_accel(log.accel, checks)[:, None], log.accel, np.nan)
 
 
-def _mag(log: ImuLog) -> np.ndarray:
-    return np.full((len(log), 3), np.nan) if log.mag is None else np.array(log.mag)
+def _mag(log: ImuLog, noise: AttitudeNoise, checks: SensorChecks) -> np.ndarray:
+    """The magnetometer, with implausible samples (norm or dip off the reference field) removed."""
+    if log.mag is None:
+        return np.full((len(log), 3), np.nan)
+    return np.where(plausible_mag(log.mag, log.accel, noise.field_n, checks)[:, None], log.mag, np.nan)
 
 
 def _scaled(v: np.ndarray, length: float) -> np.ndarray:
     return v * (length / np.linalg.norm(v, axis=1, keepdims=True))
 
 
-def _measured_attitude(log: ImuLog) -> np.ndarray:
+def _measured_attitude(log: ImuLog, noise: AttitudeNoise, checks: SensorChecks) -> np.ndarray:
     """``(N, 4)`` attitude from each accelerometer + magnetometer pair (eqs. 2.2–2.5); NaN rows
-    where either is missing or the pair gives no attitude."""
-    a, m = _accel(log), _mag(log)
+    where either is missing or implausible, or the pair gives no attitude."""
+    a, m = _accel(log, checks), _mag(log, noise, checks)
     both = ~(np.isnan(a).any(axis=1) | np.isnan(m).any(axis=1))
     out = np.full((len(log), 4), np.nan)
     if both.any():
@@ -178,8 +179,8 @@ def _measured_attitude(log: ImuLog) -> np.ndarray:
     return out
 
 
-def _measured_rotvec(log: ImuLog) -> tuple[np.ndarray]:
-    q = _measured_attitude(log)
+def _measured_rotvec(log: ImuLog, noise: AttitudeNoise, checks: SensorChecks) -> tuple[np.ndarray]:
+    q = _measured_attitude(log, noise, checks)
     ok = ~np.isnan(q[:, 0])
     out = np.full((len(log), 3), np.nan)
     out[ok] = quat_to_rotvec(q[ok])
@@ -188,9 +189,11 @@ def _measured_rotvec(log: ImuLog) -> tuple[np.ndarray]:
 
 # --- models and sensors ---------------------------------------------------------------------
 
-def _checked(noise, sigma0_rad) -> float:
+def _checked(noise, sigma0_rad, checks) -> float:
     if not isinstance(noise, AttitudeNoise):
         raise TypeError(f"noise: expected an AttitudeNoise, got {type(noise).__name__}")
+    if not isinstance(checks, SensorChecks):
+        raise TypeError(f"checks: expected a SensorChecks, got {type(checks).__name__}")
     return as_positive("sigma0_rad", sigma0_rad)
 
 
@@ -233,9 +236,10 @@ def _turn_between(z, z_hat) -> np.ndarray:
     return axis / s * np.arccos(np.clip(a @ b, -1.0, 1.0))
 
 
-def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
+          checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated orientation-vector Kalman filter: state θ, H = I₃, Φ = I₃ (eqs. 2.26–2.35)."""
-    s0 = _checked(noise, sigma0_rad)
+    s0 = _checked(noise, sigma0_rad, checks)
     model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
                   g=lambda x, u, dt: quat_to_rotvec(integrate_body_rate(quat_from_rotvec(x), u, dt)),
                   G=lambda x, u, dt: np.eye(3), Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(3),
@@ -250,52 +254,57 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> Ke
 
     sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=lambda x: x,
                     H=lambda x: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3), residual=nearest)
-    return KestenFilter("TOVKF", model, s0**2 * np.eye(3), (sensor,), _measured_rotvec,
+    return KestenFilter("TOVKF", model, s0**2 * np.eye(3), (sensor,), lambda log: _measured_rotvec(log, noise, checks),
                         state_from_q=quat_to_rotvec, q_from_state=quat_from_rotvec)
 
 
-def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
+         checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated quaternion Kalman filter: state q, H = I₄, Φ = I₄ (eqs. 2.36–2.43)."""
-    s0 = _checked(noise, sigma0_rad)
+    s0 = _checked(noise, sigma0_rad, checks)
     sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=lambda x: x, H=lambda x: np.eye(4),
                     R=0.25 * 0.5 * (noise.r_accel + noise.r_mag) * np.eye(4),
                     residual=lambda z, x: (z if z @ x >= 0 else -z) - x)
     return KestenFilter("TQKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), (sensor,),
-                        lambda log: (_measured_attitude(log),))
+                        lambda log: (_measured_attitude(log, noise, checks),))
 
 
-def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
+        checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated quaternion filter: a scalar-gain step along the geodesic toward the measured
     attitude (eqs. 2.44–2.48), as an error-state EKF with covariance ``p I₃``."""
-    s0 = _checked(noise, sigma0_rad)
+    s0 = _checked(noise, sigma0_rad, checks)
     sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=quat_to_rotvec,
                     H=lambda q: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
                     residual=lambda z, z_hat: quat_to_rotvec(quat_multiply(quat_conjugate(quat_from_rotvec(z_hat)),
                                                                            quat_from_rotvec(z))))
-    return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,), _measured_rotvec)
+    return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,),
+                        lambda log: _measured_rotvec(log, noise, checks))
 
 
-def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
+        checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Quaternion Kalman filter: the accelerometer and the magnetometer as nonlinear measurements
     of q (eqs. 2.25, 2.49–2.54), each updated on its own."""
-    s0 = _checked(noise, sigma0_rad)
+    s0 = _checked(noise, sigma0_rad, checks)
     sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: _dcm_h(x).T @ ref,
                            H=lambda x, ref=ref: vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
                     for name, ref, sigma in (("accel", noise.accel_n, noise.accel_sigma_m_s2),
                                              ("mag", noise.field_n, noise.mag_sigma)))
 
     def samples(log):  # scaled to the reference lengths, as the thesis's implementation does
-        return (_scaled(_accel(log), float(np.linalg.norm(noise.accel_n))),
-                _scaled(_mag(log), float(np.linalg.norm(noise.field_n))))
+        return (_scaled(_accel(log, checks), float(np.linalg.norm(noise.accel_n))),
+                _scaled(_mag(log, noise, checks), float(np.linalg.norm(noise.field_n))))
 
     return KestenFilter("QKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), sensors, samples)
 
 
-def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> KestenFilter:
+def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
+       checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Quaternion filter: one variance per sensor, and rotations that bring the predicted gravity
     and field directions toward the measured ones (eqs. 2.55–2.64). The innovation is the turn
     between the two directions, so ``H`` selects that sensor's error block."""
-    s0 = _checked(noise, sigma0_rad)
+    s0 = _checked(noise, sigma0_rad, checks)
     sensors = []
     for block, (name, ref, r) in enumerate((("accel", noise.accel_n, noise.r_accel),
                                             ("mag", noise.field_n, noise.r_mag))):
@@ -304,7 +313,7 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0) -> Keste
         sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: _dcm_h(q).T @ ref,
                               H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
-                        lambda log: (_accel(log), _mag(log)))
+                        lambda log: (_accel(log, checks), _mag(log, noise, checks)))
 
 
 FILTERS = {"TOVKF": tovkf, "TQKF": tqkf, "TQF": tqf, "QKF": qkf, "QF": qf}

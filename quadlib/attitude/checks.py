@@ -1,0 +1,103 @@
+"""Plausibility checks for the vector sensors of an attitude estimator.
+
+An accelerometer measures gravity only when the vehicle does not accelerate, and a magnetometer
+measures the Earth's field only when nothing else is near it. A filter that believes them
+regardless is pulled tens of degrees off by a shock, a free fall, a magnet or a stuck sensor. So
+each sample is first checked against what the sensor should read, and an implausible one is
+skipped — no state, no timer: trust returns with the first plausible sample.
+
+* accelerometer: its norm against g₀ (a shock, strong vibration, free fall, a sustained
+  manoeuvre);
+* magnetometer: its norm against the reference field's (a magnet, a current, a saturated
+  sensor); its dip — the angle between the measured field and the horizontal plane that the
+  accelerometer gives — against the reference inclination (a disturbance that turns the field
+  without changing its strength); and runs of bit-identical readings (a stuck sensor: real
+  readings carry noise, so several equal ones in a row mean the value is frozen).
+
+VQF and many AHRS use the same two tests; the thresholds here are wide enough that sensor
+noise and ordinary flight never trip them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.constants import G0
+from quadlib.validation import as_vectors3
+
+__all__ = ["SensorChecks", "plausible_accel", "plausible_mag"]
+
+
+@dataclass(frozen=True)
+class SensorChecks:
+    """When an accelerometer or magnetometer sample is implausible and skipped (``None``: no check).
+
+    Parameters
+    ----------
+    accel_norm_tolerance_m_s2 : float
+        Largest ``| |f| − g₀ |`` [m/s²] (2 m/s²: a fifth of g₀; free fall reads 0).
+    mag_norm_tolerance : float
+        Largest relative deviation of ``|m|`` from the reference field's strength (0.2: ±20 %).
+    mag_dip_tolerance_rad : float
+        Largest difference between the measured and the reference dip [rad] (10°).
+    mag_stuck_samples : int
+        A magnetometer sample equal to the ``n − 1`` present samples before it is taken as
+        stuck (5; from the fifth equal reading on, until the value changes).
+    """
+
+    accel_norm_tolerance_m_s2: float | None = 2.0
+    mag_norm_tolerance: float | None = 0.2
+    mag_dip_tolerance_rad: float | None = float(np.radians(10.0))
+    mag_stuck_samples: int | None = 5
+
+
+def plausible_accel(accel, checks: SensorChecks) -> np.ndarray:
+    """``(N,)`` bool: the sample is there and its norm is within tolerance of g₀."""
+    a = np.asarray(accel, dtype=float)
+    norm = np.linalg.norm(a, axis=-1)
+    ok = np.isfinite(norm)
+    if checks.accel_norm_tolerance_m_s2 is not None:
+        with np.errstate(invalid="ignore"):
+            ok &= np.abs(norm - G0) <= checks.accel_norm_tolerance_m_s2
+    return ok
+
+
+def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
+    """``(N,)`` bool: the sample is there, its norm is within tolerance of ``|field_n|`` and, where
+    the accelerometer gives a plausible down direction, its dip is within tolerance of the reference.
+
+    ``field_n`` is the reference field in NED, in the magnetometer's unit.
+    """
+    m = np.asarray(mag, dtype=float)
+    field = as_vectors3("field_n", field_n)
+    strength = float(np.linalg.norm(field))
+    norm = np.linalg.norm(m, axis=-1)
+    ok = np.isfinite(norm) & (norm > 0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if checks.mag_norm_tolerance is not None:
+            ok &= np.abs(norm / strength - 1.0) <= checks.mag_norm_tolerance
+        if checks.mag_dip_tolerance_rad is not None:
+            a = np.asarray(accel, dtype=float)
+            down_known = plausible_accel(a, checks) & ok
+            down = -a / np.linalg.norm(a, axis=-1, keepdims=True)
+            dip = np.arcsin(np.clip(np.sum(m * down, axis=-1) / norm, -1.0, 1.0))
+            reference_dip = np.arcsin(field[2] / strength)
+            ok &= ~down_known | (np.abs(dip - reference_dip) <= checks.mag_dip_tolerance_rad)
+    if checks.mag_stuck_samples is not None:
+        ok &= ~_stuck(m, checks.mag_stuck_samples)
+    return ok
+
+
+def _stuck(v: np.ndarray, n: int) -> np.ndarray:
+    """``(N,)`` bool: the present row equals the ``n − 1`` present rows before it (NaN rows skipped)."""
+    present = np.flatnonzero(~np.isnan(v).any(axis=-1))
+    stuck = np.zeros(v.shape[0], bool)
+    if present.size < n:
+        return stuck
+    same = np.r_[False, (v[present[1:]] == v[present[:-1]]).all(axis=-1)]
+    index = np.arange(present.size)
+    run = index - np.maximum.accumulate(np.where(same, 0, index))  # equal readings before this one, in a row
+    stuck[present] = run >= n - 1
+    return stuck

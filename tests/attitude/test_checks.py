@@ -1,0 +1,76 @@
+"""Plausibility checks, and Kesten's filters riding through shocks, magnets and a stuck magnetometer."""
+
+import numpy as np
+import pytest
+
+from quadlib.analysis.metrics import attitude_error
+from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
+from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
+from quadlib.attitude.tumble import random_rotation
+from quadlib.imu import ImuLog
+from quadlib.sim.imu import imu_samples
+
+NOISE = AttitudeNoise()
+MOTION = random_rotation(12.0, 250.0, np.random.default_rng(3))
+LOG = imu_samples(MOTION, NOISE, np.random.default_rng(4), field_n=NOISE.field_n, mag_every=5)
+T = LOG.t
+FAULT = (T >= 5.0) & (T < 8.0)
+
+
+def test_clean_samples_pass_and_each_fault_is_caught():
+    checks = SensorChecks()
+    assert plausible_accel(LOG.accel, checks).all()
+    present = ~np.isnan(LOG.mag[:, 0])
+    assert plausible_mag(LOG.mag, LOG.accel, NOISE.field_n, checks)[present].all()
+    assert not plausible_accel([[0.0, 0.0, -0.3], [0.0, 29.4, -9.8]], checks).any()  # free fall, a 3 g shock
+    f = np.array([[0.0, 0.0, -9.81]] * 7)
+    field = NOISE.field_n
+    turned = np.array([field[0] * np.cos(0.5), field[0] * np.sin(0.5), field[2]])  # heading changed: still fine
+    dipped = np.array([field[0] * 0.2, 0.0, -np.sqrt(0.25 - (field[0] * 0.2) ** 2)])  # same strength, upward
+    samples = np.array([field, turned, 10 * field, dipped, field, field, field])
+    ok = plausible_mag(samples, f, field, SensorChecks(mag_stuck_samples=3))
+    assert ok.tolist() == [True, True, False, False, True, True, False]  # magnet, wrong dip, third equal in a row
+    assert plausible_mag(samples, f, field, SensorChecks(None, None, None, None))[:4].all()
+
+
+@pytest.fixture(scope="module")
+def clean_errors():
+    return {name: np.degrees(attitude_error(run_attitude_filter(make(NOISE), LOG).q_nb, MOTION.q_nb))
+            for name, make in FILTERS.items()}
+
+
+def _faulty(kind):
+    accel, mag = np.array(LOG.accel), np.array(LOG.mag)
+    if kind == "stuck magnetometer":
+        first = np.flatnonzero(FAULT & ~np.isnan(mag[:, 0]))[0]
+        mag[FAULT & ~np.isnan(mag[:, 0])] = mag[first]
+    elif kind == "magnet at 20x the field":
+        mag[FAULT] += [10.0, 0.0, 0.0]  # fixed to the body, 20 times the Earth's 0.5 G
+    elif kind == "3 g shock":
+        accel[FAULT] += [0.0, 29.4, 0.0]
+    elif kind == "free fall":
+        accel[FAULT] = np.random.default_rng(5).normal(0.0, NOISE.accel_sigma_m_s2, (FAULT.sum(), 3))
+    return ImuLog(T, LOG.gyro, accel, mag)
+
+
+@pytest.mark.parametrize("kind", ["stuck magnetometer", "magnet at 20x the field", "3 g shock", "free fall"])
+@pytest.mark.parametrize("name", list(FILTERS))
+def test_every_filter_rides_through_the_fault_and_recovers(name, kind, clean_errors):
+    clean = clean_errors[name]
+    err = np.degrees(attitude_error(run_attitude_filter(FILTERS[name](NOISE), _faulty(kind)).q_nb, MOTION.q_nb))
+    assert err[T > 3.0].max() < 2.0  # the gyro carries the attitude through three seconds of fault
+    after = T > 10.0
+    assert err[after].max() < clean[after].max() + 0.5  # back to the clean run's accuracy
+
+
+def test_without_the_checks_the_filters_are_pulled_off():
+    checks_off = SensorChecks(None, None, None, None)
+    for kind in ("stuck magnetometer", "3 g shock"):
+        err = np.degrees(attitude_error(run_attitude_filter(FILTERS["QKF"](NOISE, checks=checks_off),
+                                                            _faulty(kind)).q_nb, MOTION.q_nb))
+        assert err[FAULT].max() > 10.0
+
+
+def test_bad_checks_are_named():
+    with pytest.raises(TypeError, match="checks: expected a SensorChecks, got dict"):
+        FILTERS["QF"](NOISE, checks={})
