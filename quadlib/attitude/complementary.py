@@ -29,7 +29,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.signal import lfilter
 
 from quadlib.geometry.quaternion import integrate_body_rate, quat_from_euler, quat_to_euler
 from quadlib.geometry.rotations import accel_tilt
@@ -44,35 +43,39 @@ def blend_weight(tau: float, dt: float) -> float:
     return tau / (tau + dt)
 
 
-def _inputs(gyro, accel, initial):
-    gyro, accel = as_finite_array("gyro", gyro, ndim=2), as_finite_array("accel", accel, ndim=2)
+def _inputs(gyro, accel, initial, a: float):
+    """Gyro, accelerometer tilt, start, and each step's weight on the gyro: ``a``, or 1 where the
+    accelerometer gives no tilt (a missing sample, free fall) — the gyro alone carries the step."""
+    gyro, accel = as_finite_array("gyro", gyro, ndim=2), np.asarray(accel, dtype=float)
     if gyro.shape[1] != 3 or accel.shape != gyro.shape:
         raise ValueError(f"gyro, accel: expected two (N, 3) arrays, got {gyro.shape} and {accel.shape}")
     tilt = np.column_stack(accel_tilt(accel))
+    if initial is None and np.isnan(tilt[0]).any():
+        raise ValueError("accel: expected a first sample that gives a tilt (not free fall, not NaN), or an initial "
+                         f"roll and pitch, got |f| = {np.linalg.norm(accel[0]):.3g} m/s²")
     start = tilt[0] if initial is None else as_vector("initial", initial, 2)
-    return gyro, tilt, start
+    no_tilt = np.isnan(tilt).any(axis=1)
+    weight = np.where(no_tilt, 1.0, a)
+    return gyro, np.where(no_tilt[:, None], 0.0, tilt), start, weight
 
 
 def linear_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np.ndarray:
     """Tellex eqs. (41)–(42): ``(N, 2)`` roll and pitch [rad], gyro ``p, q`` used as Euler rates.
 
-    A first-order recursion, run by ``scipy.signal.lfilter``.
+    A first-order recursion per angle; where the accelerometer gives no tilt the gyro alone moves it.
     """
-    a = blend_weight(tau, dt)
-    gyro, tilt, start = _inputs(gyro, accel, initial)
+    gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
     out = np.empty_like(tilt)
     out[0] = start
-    drive = a * dt * gyro[:-1, :2] + (1.0 - a) * tilt[1:]
-    for j in range(2):
-        out[1:, j] = lfilter([1.0], [1.0, -a], drive[:, j], zi=[a * start[j]])[0]
+    for k in range(1, len(tilt)):
+        out[k] = weight[k] * (out[k - 1] + dt * gyro[k - 1, :2]) + (1.0 - weight[k]) * tilt[k]
     return out
 
 
 def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np.ndarray:
     """The blog's complementary filter: ``(N, 2)`` roll and pitch [rad], gyro rates turned into
     Euler rates with the current estimate before integrating."""
-    a = blend_weight(tau, dt)
-    gyro, tilt, start = _inputs(gyro, accel, initial)
+    gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
     out = np.empty_like(tilt)
     roll, pitch = start
     out[0] = start
@@ -81,6 +84,7 @@ def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None) -
         sr, cr, tp = math.sin(roll), math.cos(roll), math.tan(pitch)
         roll_rate = p + (sr * q + cr * r) * tp  # first two rows of euler_rate_matrix
         pitch_rate = cr * q - sr * r
+        a = weight[k]
         roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt[k, 0]
         pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt[k, 1]
         out[k] = roll, pitch
@@ -95,8 +99,7 @@ def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initia
     rates (:func:`quadlib.geometry.quaternion.integrate_body_rate`), and blends its roll and pitch with
     the accelerometer's.
     """
-    a = blend_weight(tau, dt)
-    gyro, tilt, start = _inputs(gyro, accel, initial)
+    gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
     if yaw is not None:
         yaw = as_finite_array("yaw", yaw, ndim=1)
         if yaw.size != len(tilt):
@@ -109,5 +112,5 @@ def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initia
             psi = yaw[k - 1]
         q_bar = integrate_body_rate(quat_from_euler(out[k - 1, 0], out[k - 1, 1], psi), gyro[k - 1], dt)
         roll_bar, pitch_bar, psi = quat_to_euler(q_bar)
-        out[k] = a * np.array([roll_bar, pitch_bar]) + (1.0 - a) * tilt[k]
+        out[k] = weight[k] * np.array([roll_bar, pitch_bar]) + (1.0 - weight[k]) * tilt[k]
     return out

@@ -1,9 +1,11 @@
 """Real sensor data: locating the files (and, later, loading them)."""
 
-from .paths import SOURCES, DataNotFoundError, data_path, search_dirs
+from .paths import DataCorruptError, DataNotFoundError, KNOWN_FILES, SOURCES, data_path, search_dirs
 
 __all__ = [
+    "DataCorruptError",
     "DataNotFoundError",
+    "KNOWN_FILES",
     "SOURCES",
     "data_path",
     "search_dirs",

@@ -102,7 +102,8 @@ def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.
     central difference with unit steps has no truncation error."""
     q = np.asarray(x, dtype=float)[:4]
     steps = np.vstack([q + np.eye(4), q - np.eye(4)])  # the eight points, one rotation-matrix call
-    fields = np.einsum("nji,j->ni", quat_to_dcm(steps), earth_field_ned(1.0, inclination_rad, declination_rad))
+    fields = np.einsum("nji,j->ni", quat_to_dcm(steps, unit_tolerance=None),
+                       earth_field_ned(1.0, inclination_rad, declination_rad))
     C = np.zeros((3, 7))
     C[:, :4] = ((fields[:4] - fields[4:]) / 2.0).T
     return C

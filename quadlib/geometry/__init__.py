@@ -1,6 +1,7 @@
 """Rotations: quaternions, rotation matrices and Euler angles, attitude from vector measurements."""
 
 from .quaternion import (
+    UNIT_TOLERANCE,
     body_rates_between,
     integrate_body_rate,
     integrate_body_rate_linear,
@@ -16,7 +17,16 @@ from .quaternion import (
     quat_to_euler,
     quat_to_rotvec,
 )
-from .rotations import accel_tilt, dcm_dyaw, dcm_to_euler, euler_rate_matrix, euler_to_dcm, mag_heading, wrap_angle
+from .rotations import (
+    FREE_FALL_M_S2,
+    accel_tilt,
+    dcm_dyaw,
+    dcm_to_euler,
+    euler_rate_matrix,
+    euler_to_dcm,
+    mag_heading,
+    wrap_angle,
+)
 from .vector_attitude import (
     AbsoluteAttitude,
     attitude_from_accel_mag,
@@ -27,6 +37,8 @@ from .vector_attitude import (
 
 __all__ = [
     "AbsoluteAttitude",
+    "FREE_FALL_M_S2",
+    "UNIT_TOLERANCE",
     "accel_tilt",
     "attitude_from_accel_mag",
     "average_geodesic",

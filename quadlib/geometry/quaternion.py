@@ -15,9 +15,9 @@ import numpy as np
 
 from quadlib.validation import as_finite_array, as_quaternions, as_vectors3
 
-__all__ = ["body_rates_between", "integrate_body_rate", "integrate_body_rate_linear", "quat_canonical",
-           "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize",
-           "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
+__all__ = ["UNIT_TOLERANCE", "body_rates_between", "integrate_body_rate", "integrate_body_rate_linear",
+           "quat_canonical", "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply",
+           "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
 
 
 def quat_multiply(p, q) -> np.ndarray:
@@ -38,13 +38,32 @@ def quat_conjugate(q) -> np.ndarray:
     return as_quaternions("q", q) * np.array([1.0, -1.0, -1.0, -1.0])
 
 
+UNIT_TOLERANCE = 1e-6
+"""How far ``|q|`` may be from 1 where a unit quaternion is required."""
+
+
 def quat_normalize(q) -> np.ndarray:
-    """Scale to unit norm; a zero quaternion is refused."""
+    """Scale to unit norm; a zero quaternion is refused. Safe for any finite magnitude."""
     q = as_quaternions("q", q)
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
+    with np.errstate(over="ignore", under="ignore"):
+        norm = np.linalg.norm(q, axis=-1, keepdims=True)
+    if not (np.all(np.isfinite(norm)) and np.all(norm > 1e-150)):  # squares over- or underflowed
+        q = q / np.max(np.abs(q), axis=-1, keepdims=True).clip(min=np.finfo(float).tiny)
+        norm = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(norm < 1e-12):
-        raise ValueError("q: expected non-zero quaternions, got one with norm < 1e-12")
+        raise ValueError("q: expected non-zero quaternions, got one with norm 0")
     return q / norm
+
+
+def _unit(name: str, q, tolerance: float | None) -> np.ndarray:
+    q = as_quaternions(name, q)
+    if tolerance is not None:
+        off = np.abs(np.sum(q * q, axis=-1) - 1.0)
+        if np.any(off > 2 * tolerance):
+            norm = float(np.sqrt(np.sum(q * q, axis=-1)).reshape(-1)[np.argmax(off.reshape(-1))])
+            raise ValueError(f"{name}: expected unit quaternions (|norm − 1| ≤ {tolerance:g}), got norm {norm:.6g};"
+                             " normalise first (quat_normalize)")
+    return q
 
 
 def quat_canonical(q) -> np.ndarray:
@@ -76,9 +95,14 @@ def quat_to_rotvec(q) -> np.ndarray:
     return scale * v
 
 
-def quat_to_dcm(q) -> np.ndarray:
-    """Rotation matrix ``R(q)``, ``(..., 3, 3)``, for unit ``q`` (``v' = R v``)."""
-    q = as_quaternions("q", q)
+def quat_to_dcm(q, unit_tolerance: float | None = UNIT_TOLERANCE) -> np.ndarray:
+    """Rotation matrix ``R(q)``, ``(..., 3, 3)``, for unit ``q`` (``v' = R v``).
+
+    A quaternion further than ``unit_tolerance`` from unit norm is refused (the formula would
+    return a matrix that is not a rotation — the identity for ``q = 0``). ``None`` evaluates the
+    quadratic polynomial anywhere, for exact derivatives by central differences.
+    """
+    q = _unit("q", q, unit_tolerance)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     R = np.empty(q.shape[:-1] + (3, 3))
     R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
@@ -97,6 +121,12 @@ def quat_from_dcm(R) -> np.ndarray:
     if R.ndim < 2 or R.shape[-2:] != (3, 3):
         raise ValueError(f"R: expected shape (..., 3, 3), got {R.shape}")
     r = R.reshape(-1, 3, 3)
+    off = np.abs(np.einsum("nji,njk->nik", r, r) - np.eye(3)).max(axis=(1, 2))
+    det = np.linalg.det(r)
+    if np.any(off > 1e-6) or np.any(det <= 0):
+        k = int(np.argmax(np.maximum(off, -det)))
+        raise ValueError(f"R: expected rotation matrices (orthonormal, determinant +1), got max |RᵀR − I| = "
+                         f"{off[k]:.3g} and determinant {det[k]:.3g}" + (" (a reflection)" if det[k] < 0 else ""))
     tr = np.trace(r, axis1=1, axis2=2)
     # 4 w², 4 x², 4 y², 4 z², each from the trace and one diagonal element
     squares = np.column_stack([1 + tr, 1 + 2 * r[:, 0, 0] - tr, 1 + 2 * r[:, 1, 1] - tr, 1 + 2 * r[:, 2, 2] - tr])
@@ -132,7 +162,7 @@ def quat_to_euler(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     At pitch ±90° (gimbal lock) roll and yaw are not separable; the yaw returned is then the
     combination that reproduces the rotation with roll = 0.
     """
-    w, x, y, z = np.moveaxis(as_quaternions("q", q), -1, 0)
+    w, x, y, z = np.moveaxis(_unit("q", q, UNIT_TOLERANCE), -1, 0)
     sin_pitch = np.clip(2.0 * (w * y - x * z), -1.0, 1.0)
     roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
     yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))

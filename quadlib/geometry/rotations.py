@@ -12,8 +12,8 @@ import numpy as np
 
 from quadlib.validation import as_finite_array
 
-__all__ = ["accel_tilt", "dcm_dyaw", "dcm_to_euler", "euler_rate_matrix", "euler_to_dcm", "mag_heading",
-           "wrap_angle"]
+__all__ = ["FREE_FALL_M_S2", "accel_tilt", "dcm_dyaw", "dcm_to_euler", "euler_rate_matrix", "euler_to_dcm",
+           "mag_heading", "wrap_angle"]
 
 
 def _angles(*named):
@@ -91,6 +91,10 @@ def euler_rate_matrix(roll, pitch) -> np.ndarray:
                      np.stack([zero, sr / cp, cr / cp], axis=-1)], axis=-2)
 
 
+FREE_FALL_M_S2 = 2.0
+"""Below this specific force [m/s²] an accelerometer gives no tilt."""
+
+
 def accel_tilt(f_b) -> tuple[np.ndarray, np.ndarray]:
     """Roll and pitch [rad] from specific force ``f_b`` (``(..., 3)``, FRD, reads −g₀ on z at rest).
 
@@ -99,16 +103,23 @@ def accel_tilt(f_b) -> tuple[np.ndarray, np.ndarray]:
         \\phi = \\operatorname{atan2}(-f_y, -f_z), \\qquad
         \\theta = \\operatorname{atan2}\\left(f_x, \\sqrt{f_y^2 + f_z^2}\\right)
 
+    NaN where ``|f_b|`` is below ``FREE_FALL_M_S2`` (2 m/s²: in free fall the accelerometer reads
+    noise, whose direction means nothing) or the sample is NaN.
     Exact only when the vehicle does not accelerate (``f_b = −R_nbᵀ g_n``). A quadrotor's thrust
     is along body z, so in accelerated flight its accelerometer reads almost no tilt at all.
     Differs from the source: the blog's roll ``atan(A_y / √(A_x² + A_z²))`` is ``asin(A_y/|A|)``,
     which is the roll only at zero pitch, and has the opposite sign with this accelerometer sign.
     """
-    f_b = as_finite_array("f_b", f_b)
+    f_b = np.asarray(f_b, dtype=float)
     if f_b.ndim == 0 or f_b.shape[-1] != 3:
         raise ValueError(f"f_b: expected shape (..., 3), got {f_b.shape}")
+    if np.isinf(f_b).any():
+        raise ValueError("f_b: expected finite values (NaN for missing samples), got inf")
     fx, fy, fz = np.moveaxis(f_b, -1, 0)
-    return np.arctan2(-fy, -fz), np.arctan2(fx, np.hypot(fy, fz))
+    with np.errstate(invalid="ignore"):
+        no_tilt = ~(np.sqrt(fx**2 + fy**2 + fz**2) >= FREE_FALL_M_S2)  # free fall, or a missing sample
+    roll, pitch = np.arctan2(-fy, -fz), np.arctan2(fx, np.hypot(fy, fz))
+    return np.where(no_tilt, np.nan, roll), np.where(no_tilt, np.nan, pitch)
 
 
 def mag_heading(m_b, roll, pitch, declination_rad: float = 0.0) -> np.ndarray:

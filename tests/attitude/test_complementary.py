@@ -59,3 +59,18 @@ def test_bad_inputs_are_named():
         blend_weight(-1.0, 0.01)
     with pytest.raises(ValueError, match=r"yaw: expected shape \(5,\), got \(4,\)"):
         nonlinear_complementary(0.01, np.zeros((5, 3)), np.tile([0, 0, -9.8], (5, 1)), 1.0, yaw=np.zeros(4))
+
+
+def test_free_fall_and_missing_samples_leave_the_gyro_alone():
+    dt, n = 0.01, 300
+    gyro = np.zeros((n, 3))
+    gyro[:, 0] = 0.1  # rolling at 0.1 rad/s
+    accel = np.tile([0.0, 0.0, -9.80665], (n, 1))
+    accel[100:200] = [0.0, 0.0, 0.0]  # a second of free fall
+    accel[250] = np.nan
+    for filt in (linear_complementary, euler_rate_complementary):
+        out = filt(dt, gyro, accel, 1.0)
+        np.testing.assert_allclose(np.diff(out[100:200, 0]), 0.1 * dt, rtol=1e-12)  # pure gyro in free fall
+        assert np.isfinite(out).all()
+    with pytest.raises(ValueError, match="accel: expected a first sample that gives a tilt"):
+        linear_complementary(dt, gyro, np.zeros((n, 3)), 1.0)

@@ -163,3 +163,25 @@ def test_body_rates_between_inverts_the_gyro_step():
     rates = body_rates_between(q, 0.01)
     np.testing.assert_allclose(rates[:-1], omega[:-1], atol=1e-9)
     np.testing.assert_allclose(rates[-1], rates[-2])
+
+
+def test_helpers_refuse_or_flag_what_they_cannot_handle():
+    from quadlib.geometry.quaternion import quat_from_dcm, quat_normalize, quat_to_dcm, quat_to_euler
+    from quadlib.geometry.rotations import accel_tilt
+
+    np.testing.assert_allclose(quat_normalize([1e154] * 4), [0.5] * 4)  # no overflow to zeros
+    np.testing.assert_allclose(quat_normalize([1e-170, 0, 0, 0]), [1.0, 0, 0, 0])  # no underflow
+    with pytest.raises(ValueError, match="q: expected non-zero quaternions, got one with norm 0"):
+        quat_normalize([0.0, 0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"q: expected unit quaternions \(\|norm − 1\| ≤ 1e-06\), got norm 0;"):
+        quat_to_dcm([0.0, 0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="got norm 0.707107; normalise first"):
+        quat_to_euler([0.5, 0.5, 0.0, 0.0])
+    reflection = np.diag([1.0, 1.0, -1.0])
+    with pytest.raises(ValueError, match=r"R: expected rotation matrices .* determinant -1 \(a reflection\)"):
+        quat_from_dcm(reflection)
+    with pytest.raises(ValueError, match=r"max \|RᵀR − I\| = 3 and determinant 8"):
+        quat_from_dcm(2 * np.eye(3))
+    roll, pitch = accel_tilt([[0.01, -0.02, 0.03], [0.0, 0.0, -9.8], [np.nan] * 3])  # free fall, level, missing
+    assert np.isnan(roll[[0, 2]]).all() and np.isnan(pitch[[0, 2]]).all()
+    assert roll[1] == 0.0 and pitch[1] == 0.0
