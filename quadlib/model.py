@@ -64,6 +64,11 @@ class Model:
     normalize : callable ``normalize(x) -> (n,)``, optional
         Puts a state back on its manifold (a quaternion to unit norm, an angle
         to (−π, π]); the filters apply it after every predict and update.
+    normalize_jacobian : callable ``normalize_jacobian(x) -> (n, n)``, optional
+        ``∂normalize/∂x`` at ``x``. Given (additive models only), the covariance
+        is carried through the normalisation too, ``P ← J P Jᵀ``: for a quaternion
+        this removes the variance along the unit sphere's normal, a direction the
+        measurements cannot see and that otherwise leaks into the other states.
     error_names : tuple of str, optional
         Names of the ``p`` components of an error state. Given, the model is an
         *error-state* (multiplicative) model: the filters keep the full state
@@ -91,6 +96,7 @@ class Model:
     B: Callable[[Array, Array, float], Array] | None = None
     name: str = "model"
     normalize: Callable[[Array], Array] | None = None
+    normalize_jacobian: Callable[[Array], Array] | None = None
     error_names: tuple[str, ...] | None = None
     state_add: Callable[[Array, Array], Array] | None = None
     residual_x: Callable[[Array, Array], Array] | None = None
@@ -109,7 +115,9 @@ class Model:
         elif any(f is not None for f in (self.state_add, self.residual_x, self.add_jacobian)):
             raise ValueError("Model.state_add, Model.residual_x, Model.add_jacobian: expected only with error_names, "
                              "got error_names=None")
-        optional = ("G", "B", "normalize", "state_add", "residual_x", "add_jacobian")
+        if self.normalize_jacobian is not None and (self.normalize is None or self.error_names is not None):
+            raise ValueError("Model.normalize_jacobian: expected only with normalize on an additive model")
+        optional = ("G", "B", "normalize", "normalize_jacobian", "state_add", "residual_x", "add_jacobian")
         for attr in ("g", "Q") + tuple(a for a in optional if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Model.{attr}: expected a callable, got {type(getattr(self, attr)).__name__}")

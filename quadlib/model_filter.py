@@ -124,7 +124,11 @@ class ModelFilter:
             if m.normalize is not None:
                 self.nominal = np.asarray(m.normalize(self.nominal), dtype=float)
         elif m.normalize is not None:
-            self.x = np.asarray(m.normalize(self.x.reshape(-1)), dtype=float).reshape(self.x.shape)
+            x = self.x.reshape(-1)
+            if m.normalize_jacobian is not None:
+                J = np.asarray(m.normalize_jacobian(x), dtype=float)
+                self.P = J @ self.P @ J.T
+            self.x = np.asarray(m.normalize(x), dtype=float).reshape(self.x.shape)
 
     needs_jacobians = True  # the UKF sets False
 

@@ -58,6 +58,10 @@ class FixedWingTuning:
         the model can no longer predict [m/s²] (3 m/s² ≈ a 20 m/s aircraft turning at 9°/s).
     n_still : int
         Samples averaged for the initial state (§8.1), from an unaccelerated, non-rotating stretch.
+    gate_probability : float or None
+        χ² gate on every accelerometer and magnetometer update (see :func:`quadlib.run_filter`). At
+        0.999 it drops spikes and also the samples where eq. (13) is wrong — the speed changes,
+        whose forward acceleration it would read as pitch.
     """
 
     quaternion_sigma0: float = 0.1
@@ -65,6 +69,7 @@ class FixedWingTuning:
     bias_sigma0_rad_s: float = 0.02
     unmodelled_m_s2: float = 3.0
     n_still: int = 50
+    gate_probability: float | None = 0.999
 
 
 def _process_noise(noise: FixedWingNoise) -> tuple[float, float]:
@@ -162,7 +167,8 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     incl = noise.inclination_rad if inclination_rad is None else float(inclination_rad)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
     return run_filter(filt, log.t, log.gyro, fixedwing_measurements(log, noise.accel_sigma_m_s2, mag,
-                                                                    tuning.unmodelled_m_s2, prefilter_hz))
+                                                                    tuning.unmodelled_m_s2, prefilter_hz),
+                      gate_probability=tuning.gate_probability)
 
 
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:

@@ -162,6 +162,15 @@ def _normalize_attitude(x):
     return np.concatenate([quat_normalize(x[:4]), x[4:]])
 
 
+def _normalize_attitude_jacobian(x):
+    """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the biases."""
+    J = np.eye(7)
+    norm = float(np.linalg.norm(x[:4]))
+    q_hat = x[:4] / norm
+    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
+    return J
+
+
 def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
     """Salmony's EKF model: the Euler step ``x + Δt f(x, ω)`` of eqs. (9)–(12), corrected (E18, E19),
     with ``G = I + Δt A``; process noise from the gyro's white noise and the bias random walk.
@@ -176,7 +185,8 @@ def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=lambda x, u, dt: x + dt * fixedwing_f(x, u),
                  G=lambda x, u, dt: np.eye(7) + dt * fixedwing_A(x, u),
                  Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
-                 normalize=_normalize_attitude, name="Salmony fixed-wing")
+                 normalize=_normalize_attitude, normalize_jacobian=_normalize_attitude_jacobian,
+                 name="Salmony fixed-wing")
 
 
 def _add_error(x, e):
