@@ -45,6 +45,8 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/attitude_filters.py
 	$(BIN)/python benchmarks/fixedwing_filters.py
 	$(BIN)/python benchmarks/estimator_cost.py
+	$(BIN)/python benchmarks/fixedwing_divergence.py
+	$(BIN)/python benchmarks/faults.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py

@@ -52,7 +52,7 @@ class ImuNoise:
 def _stream(name: str, value, n: int, width: int | None) -> np.ndarray | None:
     if value is None:
         return None
-    arr = np.asarray(value, dtype=float)
+    arr = np.array(value, dtype=float)  # a copy: the log is frozen, the caller's array is not
     shape = (n,) if width is None else (n, width)
     if arr.shape != shape:
         raise ValueError(f"ImuLog.{name}: expected shape {shape}, got {arr.shape}")
@@ -87,7 +87,7 @@ class ImuLog:
     airspeed: np.ndarray | None = None
 
     def __post_init__(self):
-        t = as_times("ImuLog.t", self.t)
+        t = np.array(as_times("ImuLog.t", self.t))
         t.setflags(write=False)
         object.__setattr__(self, "t", t)
         n = t.size

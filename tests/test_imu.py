@@ -27,3 +27,11 @@ def test_bad_logs_are_refused_with_the_field_named():
         ImuLog([0.0, 0.0, 1.0], np.zeros((3, 3)), np.zeros((3, 3)))
     with pytest.raises(ValueError, match=r"ImuLog.airspeed: expected shape \(3,\), got \(3, 1\)"):
         ImuLog(t, np.zeros((3, 3)), np.zeros((3, 3)), airspeed=np.zeros((3, 1)))
+
+
+def test_the_log_freezes_its_own_copy_not_the_callers_arrays():
+    t, gyro = np.arange(3.0), np.zeros((3, 3))
+    log = ImuLog(t, gyro, np.zeros((3, 3)))
+    gyro[0, 0] = 1.0  # the caller's array stays writable
+    t[0] = -1.0
+    assert log.gyro[0, 0] == 0.0 and log.t[0] == 0.0

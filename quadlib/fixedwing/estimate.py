@@ -105,8 +105,15 @@ def initial_state(log: ImuLog, n_still: int) -> np.ndarray:
         raise ValueError(f"n_still: expected an int >= 1, got {n_still!r}")
     if log.mag is None:
         raise ValueError("log.mag: expected magnetometer samples for the initial heading, got None")
-    att = attitude_from_accel_mag(log.accel[:n_still].mean(axis=0)[None], log.mag[:n_still].mean(axis=0)[None])
-    return np.concatenate([att.q_nb[0], log.gyro[:n_still].mean(axis=0)])
+    accel, mag, gyro = log.accel[:n_still], log.mag[:n_still], log.gyro[:n_still]
+    present = [~np.isnan(v).any(axis=1) for v in (accel, mag, gyro)]  # dropouts are averaged over
+    if not all(p.any() for p in present):
+        raise ValueError(f"log: expected gyro, accelerometer and magnetometer samples among the first {n_still}, got "
+                         f"{present[2].sum()}, {present[0].sum()} and {present[1].sum()}")
+    att = attitude_from_accel_mag(accel[present[0]].mean(axis=0)[None], mag[present[1]].mean(axis=0)[None])
+    if not att.valid[0]:
+        raise ValueError(f"log: the first {n_still} samples give no attitude (free fall, or field parallel to gravity)")
+    return np.concatenate([att.q_nb[0], gyro[present[2]].mean(axis=0)])
 
 
 def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sensor,

@@ -170,3 +170,13 @@ def test_the_covariance_follows_the_renormalisation():
     np.testing.assert_allclose(model.normalize_jacobian(x), fd, atol=1e-7)
     q_hat = model.normalize(x)[:4]
     assert np.abs(model.normalize_jacobian(x)[:4, :4] @ q_hat).max() < 1e-12  # no variance along the normal
+
+
+def test_dropouts_in_the_initialisation_window_are_averaged_over():
+    mag = np.array(LOG.mag)
+    mag[[3, 17, 30]] = np.nan
+    x0 = initial_state(ImuLog(LOG.t, LOG.gyro, LOG.accel, mag, LOG.airspeed), 50)
+    assert np.degrees(attitude_error(x0[:4], initial_state(LOG, 50)[:4])) < 0.5  # as without the dropouts
+    mag[:50] = np.nan
+    with pytest.raises(ValueError, match="magnetometer samples among the first 50, got 50, 50 and 0"):
+        initial_state(ImuLog(LOG.t, LOG.gyro, LOG.accel, mag, LOG.airspeed), 50)

@@ -1,0 +1,220 @@
+"""The fault matrix: every estimator against the sensor faults that apply to it, in one table.
+
+Usage: ``python benchmarks/faults.py`` (a few minutes). Each cell is the peak error after the
+fault starts (metres of horizontal position for the 3D quadrotor, degrees of attitude for the
+attitude filters), the time after the fault ends until the error stays below twice the clean
+run's peak (``never`` when it does not within the run), and ``!`` when the estimate became
+non-finite or a quaternion left the unit sphere. ``n/a``: the fault does not apply to that
+estimator. Gates are on (99 % for the 3D quadrotor, 99.9 % for the fixed-wing filters).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from quadlib import ModelEKF, ModelUKF, Samples, run_filter
+from quadlib.analysis.metrics import attitude_error
+from quadlib.attitude import FILTERS, AttitudeNoise, random_rotation
+from quadlib.attitude.kesten import run_attitude_filter
+from quadlib.fixedwing import (
+    FixedWingNoise,
+    estimate_fixedwing_attitude,
+    fixedwing_flight,
+    fixedwing_samples,
+    multiplicative_ekf,
+    salmony_ekf,
+)
+from quadlib.geometry import integrate_body_rate
+from quadlib.imu import ImuLog
+from quadlib.quad import Quad3DTuning, SensorNoise3D, figure_eight, quad3d_ukf_options, simulate_run3d
+from quadlib.samples import Measurements
+from quadlib.sim import BodyMotion, imu_samples, specific_force_at_rest
+
+START, LENGTH = 10.0, 2.0  # default fault window [s]
+
+
+def _cell(err, t, clean_peak, end, ok=True) -> str:
+    after = t >= START
+    peak = np.nanmax(err[after]) if np.isfinite(err[after]).any() else np.inf
+    limit = 2.0 * clean_peak
+    bad = np.flatnonzero((err > limit) | ~np.isfinite(err))
+    bad = bad[t[bad] >= end]
+    if bad.size == 0:
+        recover = "0.0 s"
+    elif bad[-1] == t.size - 1:
+        recover = "never"
+    else:
+        recover = f"{t[bad[-1] + 1] - end:.1f} s"
+    return f"{peak:7.2f} / {recover:>5}{'' if ok and np.isfinite(err).all() else ' !'}"
+
+
+# --- 3D quadrotor: GPS and heading faults ------------------------------------------------------
+
+def quad3d_column(kind: str):
+    run = simulate_run3d(figure_eight(duration_s=90.0, period_s=10.0), SensorNoise3D(), np.random.default_rng(21))
+    tuning = Quad3DTuning()
+    gps_sensor, mag_sensor = tuning.sensors()
+
+    def horizontal_error(gps: Samples, mag: Samples, target=None):
+        f = (ModelUKF(tuning.model(), run.truth[0], tuning.P0, 0.02, **quad3d_ukf_options()) if kind == "UKF"
+             else ModelEKF(tuning.model(), run.truth[0], tuning.P0, 0.02))
+        res = run_filter(f, run.t, run.u, [Measurements(gps_sensor, gps.t, gps.z),
+                                           Measurements(mag_sensor, mag.t, mag.z)], gate_probability=0.99)
+        return np.hypot(*(res.x[:, :2] - (run.truth[:, :2] if target is None else target)).T)
+
+    clean_peak = horizontal_error(run.gps, run.mag)[run.t > 2.0].max()
+    rng = np.random.default_rng(5)
+    t = run.gps.t
+    cells = {}
+    for name, length in (("GPS outage 5 s", 5.0), ("GPS outage 10 s", 10.0), ("GPS outage 20 s", 20.0),
+                         ("GPS outage 60 s", 60.0), ("stuck GPS 10 s", 10.0)):
+        z = run.gps.z.copy()
+        window = (t >= START) & (t < START + length)
+        z[window] = np.nan if name.startswith("GPS outage") else z[np.flatnonzero(window)[0]]
+        cells[name] = _cell(horizontal_error(Samples(t, z), run.mag), run.t, clean_peak, START + length)
+    z = run.gps.z.copy()
+    z[t >= START, 0] += 20.0  # the receiver jumps 20 m north for good: the filter should follow it
+    jumped = run.truth[:, :2] + np.where(run.t[:, None] >= START, [20.0, 0.0], 0.0)
+    cells["GPS jump 20 m, persists"] = _cell(horizontal_error(Samples(t, z), run.mag, jumped), run.t, clean_peak, START)
+    z = run.gps.z.copy()
+    z[rng.random(t.size) < 0.3] = np.nan
+    cells["GPS 30 % dropouts"] = _cell(horizontal_error(Samples(t, z), run.mag), run.t, clean_peak, START)
+    for scale in (10.0, 100.0):
+        z = run.gps.z.copy()
+        hit = (rng.random(t.size) < 0.05) & (t >= START)
+        z[hit, :3] += rng.normal(0.0, scale * 0.7, (hit.sum(), 3))
+        cells[f"GPS spikes {scale:.0f}σ (5 %)"] = _cell(horizontal_error(Samples(t, z), run.mag), run.t, clean_peak,
+                                                         START)
+    cells["duplicated timestamps (every GPS fix twice)"] = _cell(
+        horizontal_error(Samples(np.repeat(t, 2), np.repeat(run.gps.z, 2, axis=0)), run.mag), run.t, clean_peak, 0.0)
+    mag = run.mag.z.copy()
+    window = (run.mag.t >= START) & (run.mag.t < START + 10.0)
+    mag[window] = mag[np.flatnonzero(window)[0]]
+    cells["stuck magnetometer"] = _cell(horizontal_error(run.gps, Samples(run.mag.t, mag)), run.t, clean_peak,
+                                        START + 10.0)
+    swapped = t.copy()
+    swapped[[40, 41]] = swapped[[41, 40]]
+    try:
+        horizontal_error(Samples(swapped, run.gps.z), run.mag)
+        cells["out-of-order timestamp"] = "accepted"
+    except ValueError as err:
+        cells["out-of-order timestamp"] = "named error (" + str(err).split(":")[0] + ")"
+    return cells
+
+
+# --- attitude filters: IMU and magnetometer faults ------------------------------------------------
+
+def _spin_motion(base: BodyMotion, rate_rad_s: float) -> BodyMotion:
+    """``base`` with a 1 s roll at ``rate_rad_s`` added from START on, re-integrated."""
+    omega = base.omega_b.copy()
+    window = (base.t >= START) & (base.t < START + 1.0)
+    omega[window, 0] += rate_rad_s
+    dt = base.t[1] - base.t[0]
+    q = np.empty_like(base.q_nb)
+    q[0] = base.q_nb[0]
+    for k in range(1, base.t.size):
+        q[k] = integrate_body_rate(q[k - 1], omega[k - 1], dt)
+    return BodyMotion(base.t, q, omega, specific_force_at_rest(q))
+
+
+def imu_faults(log: ImuLog, field_n, accel_sigma, rng):
+    """``{name: (faulty log, fault end)}`` for the faults every attitude estimator should survive."""
+    t = log.t
+    window = (t >= START) & (t < START + LENGTH)
+    out = {}
+
+    def with_(accel=None, mag=None, gyro=None):
+        return ImuLog(t, log.gyro if gyro is None else gyro, log.accel if accel is None else accel,
+                      log.mag if mag is None else mag, log.airspeed)
+
+    for factor in (5.0, 20.0):
+        mag = np.array(log.mag)
+        mag[window] += factor * np.linalg.norm(field_n) * np.array([1.0, 0.0, 0.0])  # a magnet fixed to the body
+        out[f"magnetometer + {factor:.0f}x field (magnet)"] = (with_(mag=mag), START + LENGTH)
+    mag = np.array(log.mag)
+    present = window & ~np.isnan(mag[:, 0])
+    mag[present] = mag[np.flatnonzero(present)[0]]
+    out["stuck magnetometer"] = (with_(mag=mag), START + LENGTH)
+    mag = np.array(log.mag)
+    mag[rng.random(t.size) < 0.3] = np.nan
+    out["magnetometer 30 % dropouts"] = (with_(mag=mag), t[-1])
+    accel = np.array(log.accel)
+    accel[window] = rng.normal(0.0, accel_sigma, (window.sum(), 3))
+    out["free fall 2 s"] = (with_(accel=accel), START + LENGTH)
+    accel = np.array(log.accel)
+    shock = (t >= START) & (t < START + 0.05)
+    accel[shock] = np.clip(accel[shock] + [0.0, 30 * 9.80665, 0.0], -16 * 9.80665, 16 * 9.80665)
+    out["30 g shock clipped at 16 g"] = (with_(accel=accel), START + 0.05)
+    accel = np.array(log.accel)
+    hit = rng.random(t.size) < 0.02
+    accel[hit] += rng.normal(0.0, 20 * accel_sigma, (hit.sum(), 3))
+    out["accelerometer spikes 20σ (2 %)"] = (with_(accel=accel), t[-1])
+    return out
+
+
+def attitude_column(name: str):
+    noise = AttitudeNoise()
+    base = random_rotation(30.0, 250.0, np.random.default_rng(3))
+    rng = np.random.default_rng(7)
+    clean_log = imu_samples(base, noise, np.random.default_rng(4), field_n=noise.field_n, mag_every=5)
+    clean = np.degrees(attitude_error(run_attitude_filter(FILTERS[name](noise), clean_log).q_nb, base.q_nb))
+    clean_peak = clean[base.t > 2.0].max()
+    cells = {}
+    for fault, (log, end) in imu_faults(clean_log, noise.field_n, noise.accel_sigma_m_s2, rng).items():
+        q = run_attitude_filter(FILTERS[name](noise), log).q_nb
+        ok = np.abs(np.linalg.norm(q, axis=1) - 1).max() < 1e-9
+        cells[fault] = _cell(np.degrees(attitude_error(q, base.q_nb)), base.t, clean_peak, end, ok)
+    spin = _spin_motion(base, 40.0)  # 40 rad/s for 1 s; the gyro saturates at 2000 °/s
+    log = imu_samples(spin, noise, np.random.default_rng(4), field_n=noise.field_n, mag_every=5)
+    log = ImuLog(log.t, np.clip(log.gyro, -np.radians(2000), np.radians(2000)), log.accel, log.mag)
+    q = run_attitude_filter(FILTERS[name](noise), log).q_nb
+    cells["gyro saturated in a 40 rad/s spin"] = _cell(np.degrees(attitude_error(q, spin.q_nb)), base.t, clean_peak,
+                                                       START + 1.0)
+    return cells
+
+
+def fixedwing_column(factory):
+    noise = FixedWingNoise()
+    flight = fixedwing_flight(rate_hz=50.0)
+    clean_log = fixedwing_samples(flight, noise, np.random.default_rng(12))
+    clean = np.degrees(attitude_error(estimate_fixedwing_attitude(clean_log, noise, factory).x[:, :4], flight.q_nb))
+    clean_peak = clean[flight.t > 5.0].max()
+    cells = {}
+    faults = imu_faults(clean_log, [1.0, 0.0, 0.0], noise.accel_sigma_m_s2, np.random.default_rng(7))
+    for fault, (log, end) in faults.items():
+        x = estimate_fixedwing_attitude(log, noise, factory).x
+        ok = np.abs(np.linalg.norm(x[:, :4], axis=1) - 1).max() < 1e-9
+        cells[fault] = _cell(np.degrees(attitude_error(x[:, :4], flight.q_nb)), flight.t, clean_peak, end, ok)
+    return cells
+
+
+def main() -> None:
+    start = time.perf_counter()
+    columns = {"3D EKF [m]": quad3d_column("EKF"), "3D UKF [m]": quad3d_column("UKF")}
+    long_run = simulate_run3d(figure_eight(duration_s=2000.0, period_s=10.0), SensorNoise3D(), np.random.default_rng(8))
+    tuning = Quad3DTuning()
+    res = run_filter(ModelEKF(tuning.model(), long_run.truth[0], tuning.P0, 0.02), long_run.t, long_run.u,
+                     [Measurements(s, x.t, x.z) for s, x in zip(tuning.sensors(), (long_run.gps, long_run.mag),
+                                                                strict=True)], gate_probability=0.99)
+    pd = all(np.linalg.eigvalsh(P).min() > 0 for P in res.P[::1000])
+    columns["3D EKF [m]"][f"{long_run.t.size - 1} steps"] = (
+        f"{np.hypot(*(res.x[:, :2] - long_run.truth[:, :2]).T).max():7.2f} / finite "
+        f"{np.isfinite(res.x).all()}, P > 0 {pd}")
+    for name in ("QKF", "QF", "TQF"):
+        columns[f"Kesten {name} [°]"] = attitude_column(name)
+    columns["fixed-wing EKF [°]"] = fixedwing_column(salmony_ekf)
+    columns["fixed-wing MEKF [°]"] = fixedwing_column(multiplicative_ekf)
+    rows = list(dict.fromkeys(r for c in columns.values() for r in c))
+    print("cell: peak error after the fault starts / time after it ends to stay within 2x the clean peak; "
+          "! = non-finite or non-unit")
+    print("| fault | " + " | ".join(columns) + " |")
+    print("|---|" + "---|" * len(columns))
+    for r in rows:
+        print(f"| {r} | " + " | ".join(c.get(r, "n/a") for c in columns.values()) + " |")
+    print(f"\n({time.perf_counter() - start:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()
