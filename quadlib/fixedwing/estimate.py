@@ -131,8 +131,7 @@ def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sen
     accel, mag = log.accel, log.mag
     if prefilter_hz is not None:
         dt = float(log.t[1] - log.t[0])
-        accel, mag = lowpass2(accel, prefilter_hz, dt), lowpass2(np.nan_to_num(mag), prefilter_hz, dt)
-        mag[np.isnan(log.mag).any(axis=1)] = np.nan
+        accel, mag = lowpass2(accel, prefilter_hz, dt), lowpass2(mag, prefilter_hz, dt)
     no_airspeed = np.isnan(log.airspeed)
     with_va = np.where(no_airspeed[:, None], np.nan, accel)
     without_va = np.where(no_airspeed[:, None], accel, np.nan)

@@ -112,14 +112,19 @@ def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.
 def lowpass2(x, cutoff_hz: float, dt: float) -> np.ndarray:
     """Eq. (8): the critically damped second-order low-pass (eq. 7) by backward Euler, ``(N, ...)``.
 
-    Starts from rest at the first sample (``y₋₁ = y₋₂ = x₀``), so a constant input passes unchanged.
+    Starts from rest at the first present sample (``y₋₁ = y₋₂ = x₀``), so a constant input passes
+    unchanged. A missing sample (a row with NaN) gives a NaN output and leaves the filter's state
+    as it was: a gap neither feeds zeros into the filter nor restarts it.
     """
     x = np.asarray(x, dtype=float)
-    wt = 2 * np.pi * float(cutoff_hz) * float(dt)
+    wt = 2 * as_positive("cutoff_hz", cutoff_hz) * np.pi * as_positive("dt", dt)
     den = 1 + 2 * wt + wt**2
-    y = np.empty_like(x)
-    y1 = y2 = x[0]
-    for n in range(len(x)):
+    y = np.full_like(x, np.nan)
+    present = ~np.isnan(x.reshape(len(x), -1)).any(axis=1)
+    if not present.any():
+        return y
+    y1 = y2 = x[np.argmax(present)]
+    for n in np.flatnonzero(present):
         y[n] = (wt**2 * x[n] + 2 * (1 + wt) * y1 - y2) / den
         y2, y1 = y1, y[n]
     return y

@@ -180,3 +180,17 @@ def test_dropouts_in_the_initialisation_window_are_averaged_over():
     mag[:50] = np.nan
     with pytest.raises(ValueError, match="magnetometer samples among the first 50, got 50, 50 and 0"):
         initial_state(ImuLog(LOG.t, LOG.gyro, LOG.accel, mag, LOG.airspeed), 50)
+
+
+def test_the_prefilter_holds_its_state_over_magnetometer_dropouts():
+    from quadlib.fixedwing.model import lowpass2
+
+    x = np.ones((10, 3))
+    x[4:6] = np.nan
+    y = lowpass2(x, 2.0, 0.02)
+    assert np.isnan(y[4:6]).all() and np.allclose(y[~np.isnan(x[:, 0])], 1.0)  # a constant passes, gaps stay gaps
+    mag = np.array(LOG.mag)
+    mag[np.random.default_rng(3).random(len(mag)) < 0.3] = np.nan
+    with_gaps = ImuLog(LOG.t, LOG.gyro, LOG.accel, mag, LOG.airspeed)
+    _, err = _run(with_gaps, prefilter_hz=2.0)
+    assert np.sqrt(np.mean(err[FLIGHT.t > 5] ** 2, axis=0)).max() < 3.0  # degrees; zeros in the gaps gave ~80
