@@ -31,7 +31,7 @@ from quadlib.model_filter import ModelFilter, group_gates
 from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_probability, as_times
 
-__all__ = ["FilterRun", "SensorTrace", "run_filter"]
+__all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "run_filter"]
 
 
 @dataclass(frozen=True)
@@ -214,12 +214,30 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
         tr = traces[i]
         tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
         tr["used"][j], tr["rejected"][j], tr["reset"][j] = inn.accepted, bool(inn.rejected_groups), inn.reset
+    sensors = {m.sensor.name: SensorTrace(t=m.t, **tr) for m, tr in zip(measurements, traces, strict=True)}
+    run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held)
     bad = ~np.isfinite(xs).all(axis=1) | ~np.isfinite(Ps).all(axis=(1, 2))
     if bad.any():
         k = int(np.argmax(bad))
-        raise FloatingPointError(
+        raise FilterDivergedError(
             f"run_filter: the state or covariance became non-finite at t[{k}] = {t[k]:.6g} s; "
-            "check the model, Q, R and the inputs"
-        )
-    sensors = {m.sensor.name: SensorTrace(t=m.t, **tr) for m, tr in zip(measurements, traces, strict=True)}
-    return FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held)
+            "check the model, Q, R and the inputs (the error's .run holds the estimates before it)",
+            index=k, run=_first(run, k))
+    return run
+
+
+class FilterDivergedError(FloatingPointError):
+    """The estimate became non-finite at step ``index``; ``run`` holds the steps before it."""
+
+    def __init__(self, message: str, index: int, run: FilterRun):
+        super().__init__(message)
+        self.index, self.run = index, run
+
+
+def _first(run: FilterRun, k: int) -> FilterRun:
+    """The first ``k`` steps of ``run``, with the sensor samples taken until then."""
+    traces = {}
+    for name, tr in run.sensors.items():
+        keep = tr.t < run.t[k] if k < run.t.size else np.ones(tr.t.size, bool)
+        traces[name] = SensorTrace(**{f: getattr(tr, f)[keep] for f in SensorTrace.__dataclass_fields__})
+    return FilterRun(t=run.t[:k], x=run.x[:k], P=run.P[:k], sensors=traces, held_input=run.held_input[:k])

@@ -109,6 +109,13 @@ def test_run_filter_names_the_time_where_the_estimate_became_non_finite(scenario
         run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [meas])
     k = int(re.search(r"non-finite at t\[(\d+)\]", str(err.value)).group(1))
     assert k > 500 and f"= {t[k]:.6g} s" in str(err.value)
+    partial = err.value.run  # nothing computed before the failure is lost
+    assert err.value.index == k and partial.x.shape[0] == k and np.isfinite(partial.x).all()
+    with np.errstate(over="ignore", invalid="ignore"):  # the same steps on their own: huge but finite
+        clean = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t[:k], u[:k],
+                           [Measurements(sensor, meas.t[meas.t < t[k]], meas.z[meas.t < t[k]])])
+    np.testing.assert_array_equal(partial.x, clean.x)
+    assert partial.sensors[sensor.name].t.max() < t[k]
     # the checked step-by-step API stops at the same step
     f = ModelEKF(model, [1.0], [[0.1]], 0.02)
     with np.errstate(over="ignore", invalid="ignore"), pytest.raises(FloatingPointError):
