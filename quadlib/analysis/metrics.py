@@ -21,8 +21,8 @@ from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_r
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.validation import as_finite_array, as_probability, as_quaternions
 
-__all__ = ["angle_error", "angle_rmse", "attitude_error", "attitude_rmse", "chi2_interval", "fraction_inside", "nees",
-           "nis", "rmse", "settling_time"]
+__all__ = ["angle_error", "angle_rmse", "attitude_error", "attitude_rmse", "broad_errors", "chi2_interval",
+           "fraction_inside", "nees", "nis", "rmse", "settling_time"]
 
 
 def rmse(error, axis: int | None = 0) -> np.ndarray:
@@ -63,6 +63,50 @@ def attitude_error(q_estimate, q_truth) -> np.ndarray:
     if q_e.shape != q_t.shape:
         raise ValueError(f"q_estimate, q_truth: expected the same shape, got {q_e.shape} and {q_t.shape}")
     return np.linalg.norm(quat_to_rotvec(quat_multiply(quat_conjugate(q_t), q_e)), axis=-1)
+
+
+def broad_errors(q_estimate, q_truth, movement=None) -> dict[str, float]:
+    """BROAD's orientation errors [deg] (Laidig et al., *Data* 2021, §4; their evaluation code).
+
+    .. math::
+
+        q_e = \\hat q \\otimes q^{-1}, \\quad
+        e_{total} = 2\\arccos|w|, \\quad e_{heading} = 2\\arctan|z/w|, \\quad
+        e_{inclination} = 2\\arccos\\sqrt{w^2 + z^2}
+
+    ``q_e`` is the error in the *earth* frame, so its rotation about the vertical (z, in NED as in
+    BROAD's ENU) is the heading error and the rest the inclination error. Each is the RMS over the
+    ``movement`` samples, skipping rows where the truth is NaN; the earth frames are compared as
+    they are (no heading offset is removed: the estimator must find north itself).
+
+    Parameters
+    ----------
+    q_estimate, q_truth : (N, 4) array_like
+        ``q_nb`` estimates and truth, scalar first (the truth may have NaN rows).
+    movement : (N,) bool array_like, optional
+        The samples that count (default: all).
+
+    Returns
+    -------
+    dict with ``total_deg``, ``heading_deg``, ``inclination_deg``
+    """
+    q_est = as_quaternions("q_estimate", q_estimate)
+    q_true = np.asarray(q_truth, dtype=float)
+    if q_true.shape != q_est.shape or q_est.ndim != 2:
+        raise ValueError(f"q_estimate, q_truth: expected the same (N, 4) shape, got {q_est.shape} and {q_true.shape}")
+    mask = np.ones(len(q_est), bool) if movement is None else np.asarray(movement)
+    if mask.dtype != bool or mask.shape != (len(q_est),):
+        raise ValueError(f"movement: expected a bool array of shape ({len(q_est)},), got {mask.dtype} {mask.shape}")
+    keep = mask & ~np.isnan(q_true).any(axis=1)
+    if not keep.any():
+        raise ValueError("movement, q_truth: expected at least one moving sample with a truth, got none")
+    e = quat_multiply(q_est[keep] / np.linalg.norm(q_est[keep], axis=1, keepdims=True),
+                      quat_conjugate(q_true[keep] / np.linalg.norm(q_true[keep], axis=1, keepdims=True)))
+    w, z = np.abs(e[:, 0]), np.abs(e[:, 3])
+    errors = {"total_deg": 2 * np.arccos(np.clip(w, 0.0, 1.0)),
+              "heading_deg": 2 * np.arctan2(z, w),
+              "inclination_deg": 2 * np.arccos(np.clip(np.sqrt(w**2 + z**2), 0.0, 1.0))}
+    return {k: float(np.degrees(np.sqrt(np.mean(v**2)))) for k, v in errors.items()}
 
 
 def attitude_rmse(q_estimate, q_truth) -> float:

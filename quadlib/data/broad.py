@@ -1,0 +1,110 @@
+"""BROAD trials (Laidig et al., *Data* 2021, 6(7):72; CC BY 4.0) in the project's conventions.
+
+A BROAD file holds a sensor's gyro (rad/s), accelerometer (m/s²) and magnetometer (µT) at
+285.7 Hz, the optical ground truth ``opt_quat`` (the sensor's orientation in an East-North-Up
+earth frame, scalar first), ``opt_pos`` and the ``movement`` mask of the samples that count.
+
+Conversion (:func:`load_broad_trial`):
+
+* earth frame ENU → NED: ``v_ned = C v_enu`` with ``C = [[0, 1, 0], [1, 0, 0], [0, 0, −1]]``
+  (swap east and north, flip up), a rotation by 180° about (1, 1, 0)/√2, so
+  ``q_nb = q_C ⊗ q_enu`` with ``q_C = [0, 1/√2, 1/√2, 0]``;
+* the sensor frame is BROAD's own sensor axes (the IMU has no "forward"): ``q_nb`` rotates
+  sensor vectors into NED, and a sensor lying flat, z up, reads ``+g`` on z. On a vehicle, mount
+  the IMU with its axes forward-right-down to get the FRD body frame of the other chapters;
+* the IMU streams are unchanged (they are in the sensor frame already); ground-truth rows where
+  the optical markers were hidden are NaN, as in the file.
+
+The benchmark's error metric is :func:`quadlib.analysis.broad_errors`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from quadlib.data.paths import DataCorruptError, data_path
+from quadlib.geometry.quaternion import quat_multiply
+from quadlib.imu import ImuLog
+
+__all__ = ["ENU_TO_NED", "BroadTrial", "broad_trial_names", "load_broad_trial"]
+
+ENU_TO_NED = np.array([0.0, np.sqrt(0.5), np.sqrt(0.5), 0.0])
+"""``q_C``: the rotation that takes ENU coordinates to NED (180° about the east-north bisector)."""
+
+
+class BroadTrial(NamedTuple):
+    """One BROAD trial in the project's conventions.
+
+    Attributes
+    ----------
+    name : str
+        The trial's name, e.g. ``"02_undisturbed_slow_rotation_B"``.
+    log : ImuLog
+        Gyro [rad/s], accelerometer [m/s²] and magnetometer [µT] in the sensor frame.
+    q_nb : (N, 4) ndarray
+        Optical ground truth, sensor → NED, scalar first; NaN rows where the markers were hidden.
+    movement : (N,) bool ndarray
+        The samples the benchmark's errors are computed over.
+    position_m : (N, 3) ndarray
+        Optical position of the sensor in NED [m] (NaN where hidden).
+    info : dict
+        The trial's entry in ``trials.json`` (its groups: undisturbed or disturbed, motion, speed …).
+    """
+
+    name: str
+    log: ImuLog
+    q_nb: np.ndarray
+    movement: np.ndarray
+    position_m: np.ndarray
+    info: dict
+
+
+def broad_trial_names() -> list[str]:
+    """Names of the BROAD trials whose files are available, from ``broad/trials.json``."""
+    folder = data_path("broad/trials.json").parent
+    return sorted(p.stem for p in folder.glob("*.hdf5"))
+
+
+def load_broad_trial(trial: str | os.PathLike) -> BroadTrial:
+    """Read one BROAD trial, by name (``"02_undisturbed_slow_rotation_B"``) or path, and convert it.
+
+    A name is looked up with :func:`quadlib.data.data_path` (which also checks the file against the
+    published one); a path is read as given. Conversions: see the module's documentation.
+    """
+    import h5py  # only the loaders need it
+
+    if not isinstance(trial, (str, os.PathLike)):
+        raise TypeError(f"trial: expected a trial name or a path, got {type(trial).__name__}")
+    path = Path(trial)
+    if path.suffix != ".hdf5":
+        path = data_path(f"broad/{path.name}.hdf5")
+    elif not path.is_file():
+        path = data_path(f"broad/{path.name}")
+    try:
+        with h5py.File(path, "r") as f:
+            rate = float(f.attrs["sampling_rate"])
+            gyr, acc, mag = (np.asarray(f[k], dtype=float) for k in ("imu_gyr", "imu_acc", "imu_mag"))
+            q_enu, pos_enu = np.asarray(f["opt_quat"], dtype=float), np.asarray(f["opt_pos"], dtype=float)
+            movement = np.asarray(f["movement"], dtype=bool)
+    except (OSError, KeyError) as err:
+        raise DataCorruptError(f"data file {str(path)!r} is not a readable BROAD trial ({err}); fetch it again from "
+                               "https://github.com/dlaidig/broad, folder data_hdf5/") from err
+    n = gyr.shape[0]
+    for name, arr, width in (("imu_acc", acc, 3), ("imu_mag", mag, 3), ("opt_quat", q_enu, 4), ("opt_pos", pos_enu, 3)):
+        if arr.shape != (n, width):
+            raise DataCorruptError(f"data file {str(path)!r}: expected {name} of shape ({n}, {width}), got {arr.shape}")
+    info = {}
+    trials_json = path.parent / "trials.json"
+    if trials_json.is_file():
+        info = json.loads(trials_json.read_text()).get("trials", {}).get(path.stem, {})
+    c = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+    q_nb = quat_multiply(ENU_TO_NED, np.where(np.isnan(q_enu), 0.0, q_enu))
+    q_nb[np.isnan(q_enu).any(axis=1)] = np.nan
+    t = np.arange(n) / rate
+    return BroadTrial(name=path.stem, log=ImuLog(t, gyr, acc, mag), q_nb=q_nb, movement=movement,
+                      position_m=pos_enu @ c.T, info=info)

@@ -1,0 +1,58 @@
+"""BROAD loader: the ENU→NED conversion checked against physics, and the benchmark's metric."""
+
+import numpy as np
+import pytest
+
+from quadlib.analysis.metrics import broad_errors
+from quadlib.data import DataCorruptError, DataNotFoundError, broad_trial_names, load_broad_trial
+from quadlib.geometry import quat_from_rotvec, quat_to_dcm
+
+TRIAL = load_broad_trial("02_undisturbed_slow_rotation_B")
+
+
+def test_the_six_trials_are_shipped_and_load():
+    names = broad_trial_names()
+    assert len(names) == 6 and "32_disturbed_attached_magnet_1cm" in names
+    assert TRIAL.log.t.size == TRIAL.q_nb.shape[0] == TRIAL.movement.size == 53240
+    assert 1 / np.median(TRIAL.log.dt) == pytest.approx(285.714, abs=1e-3)
+    assert "undisturbed" in TRIAL.info["groups"]
+
+
+def test_the_truth_rotates_gravity_and_the_field_into_ned():
+    rest = ~TRIAL.movement & ~np.isnan(TRIAL.q_nb[:, 0])
+    R = quat_to_dcm(TRIAL.q_nb[rest])
+    f_n = np.einsum("nij,nj->ni", R, TRIAL.log.accel[rest]).mean(axis=0)
+    np.testing.assert_allclose(f_n, [0.0, 0.0, -9.81], atol=0.1)  # at rest: −g_n, up
+    m_n = np.einsum("nij,nj->ni", R, TRIAL.log.mag[rest]).mean(axis=0)
+    assert abs(m_n[1]) < 1.0 and m_n[0] > 10.0  # north, the truth's earth frame is magnetic north
+    assert 60.0 < np.degrees(np.arctan2(m_n[2], np.hypot(m_n[0], m_n[1]))) < 75.0  # Berlin's dip, downwards
+    present = ~np.isnan(TRIAL.q_nb[:, 0])
+    assert np.abs(np.linalg.norm(TRIAL.q_nb[present], axis=1) - 1).max() < 1e-6
+
+
+def test_broad_errors_on_a_hand_made_case():
+    n = 4
+    truth = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    heading = quat_from_rotvec([0.0, 0.0, np.radians(10.0)])  # about the earth's vertical
+    tilt = quat_from_rotvec([np.radians(5.0), 0.0, 0.0])
+    est = np.array([heading, heading, tilt, tilt])
+    errors = broad_errors(est, truth)
+    assert errors["heading_deg"] == pytest.approx(np.sqrt((2 * 10**2) / 4))
+    assert errors["inclination_deg"] == pytest.approx(np.sqrt((2 * 5**2) / 4))
+    assert errors["total_deg"] == pytest.approx(np.sqrt((2 * 10**2 + 2 * 5**2) / 4))
+    truth[1] = np.nan  # hidden markers are skipped, still-samples are not counted
+    only_moving = broad_errors(-est, truth, movement=np.array([True, True, False, False]))  # the sign does not matter
+    assert only_moving == pytest.approx({"total_deg": 10.0, "heading_deg": 10.0, "inclination_deg": 0.0})
+    with pytest.raises(ValueError, match="movement: expected a bool array of shape"):
+        broad_errors(est, truth, movement=[1, 0, 0, 0])
+
+
+def test_missing_and_damaged_trials_are_named(monkeypatch, tmp_path):
+    with pytest.raises(DataNotFoundError, match="01_undisturbed_slow_rotation_A"):
+        load_broad_trial("01_undisturbed_slow_rotation_A")
+    bad = tmp_path / "02_undisturbed_slow_rotation_B.hdf5"
+    bad.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\0" * 64)
+    with pytest.raises(DataCorruptError, match="not a readable BROAD trial"):
+        load_broad_trial(bad)
+    with pytest.raises(TypeError, match="trial: expected a trial name or a path, got int"):
+        load_broad_trial(2)
