@@ -8,6 +8,14 @@ from .altitude import (
     pressure_from_altitude,
     vertical_specific_force,
 )
+from .bias_model import (
+    GYRO_NAMES,
+    STATE_NAMES,
+    attitude_bias_model,
+    normalize_attitude,
+    normalize_attitude_jacobian,
+    quaternion_rate_matrix,
+)
 from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import (
@@ -29,21 +37,27 @@ __all__ = [
     "AttitudeNoise",
     "AttitudeRun",
     "FILTERS",
+    "GYRO_NAMES",
     "KestenFilter",
     "SEA_LEVEL_HPA",
+    "STATE_NAMES",
     "SensorChecks",
     "altitude_from_pressure",
     "altitude_model",
+    "attitude_bias_model",
     "baro_altitude_sensor",
     "blend_weight",
     "euler_rate_complementary",
     "linear_complementary",
     "nonlinear_complementary",
+    "normalize_attitude",
+    "normalize_attitude_jacobian",
     "plausible_accel",
     "plausible_mag",
     "pressure_from_altitude",
     "qf",
     "qkf",
+    "quaternion_rate_matrix",
     "random_rotation",
     "run_attitude_filter",
     "tovkf",

@@ -17,14 +17,12 @@ from .model import (
     airspeed_from_pressure,
     fixedwing_A,
     fixedwing_accel_sensor,
-    fixedwing_error_model,
     fixedwing_f,
     fixedwing_mag_sensor,
     fixedwing_model,
     lowpass2,
     mag_jacobian,
     mag_model,
-    quaternion_rate_matrix,
 )
 from .sim import FixedWingFlight, fixedwing_flight, fixedwing_samples
 
@@ -40,7 +38,6 @@ __all__ = [
     "estimate_fixedwing_attitude",
     "fixedwing_A",
     "fixedwing_accel_sensor",
-    "fixedwing_error_model",
     "fixedwing_f",
     "fixedwing_flight",
     "fixedwing_mag_sensor",
@@ -52,6 +49,5 @@ __all__ = [
     "mag_jacobian",
     "mag_model",
     "multiplicative_ekf",
-    "quaternion_rate_matrix",
     "salmony_ekf",
 ]

@@ -19,12 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from quadlib.attitude.bias_model import attitude_bias_model
 from quadlib.attitude.complementary import euler_rate_complementary
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.fixedwing.model import (
     FixedWingNoise,
     fixedwing_accel_sensor,
-    fixedwing_error_model,
     fixedwing_mag_sensor,
     fixedwing_model,
     lowpass2,
@@ -88,13 +88,13 @@ def _error_state_P0(tuning: FixedWingTuning) -> np.ndarray:
 
 
 def multiplicative_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
-    """The error-state model (:func:`~quadlib.fixedwing.model.fixedwing_error_model`) in an EKF."""
-    return ModelEKF(fixedwing_error_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+    """The error-state model (:func:`~quadlib.attitude.attitude_bias_model`) in an EKF."""
+    return ModelEKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
 
 
 def error_state_ukf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelUKF:
     """The error-state model in a UKF (default sigma points, α = 0.5)."""
-    return ModelUKF(fixedwing_error_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+    return ModelUKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
 
 
 def initial_state(log: ImuLog, n_still: int) -> np.ndarray:

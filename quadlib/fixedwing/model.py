@@ -16,7 +16,8 @@ Jacobians are exact and tested against sympy and finite differences.
 
 The second half of the module turns these functions into quadlib models and sensors: Salmony's
 EKF model (:func:`fixedwing_model`), an error-state model for the multiplicative EKF and the
-error-state UKF (:func:`fixedwing_error_model`), and the two sensors. The accelerometer needs
+error-state UKF (:func:`quadlib.attitude.attitude_bias_model`, shared with every attitude
+estimator), and the two sensors. The accelerometer needs
 the gyro rates and the airspeed of its own sample; they come with each sample as the sensor's
 *context*, so one sensor object serves the whole flight.
 
@@ -32,30 +33,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from quadlib.attitude.bias_model import (
+    GYRO_NAMES,
+    STATE_NAMES,
+    normalize_attitude,
+    normalize_attitude_jacobian,
+    quaternion_rate_matrix,
+)
 from quadlib.constants import G0, earth_field_ned
 from quadlib.geometry.quaternion import (
-    integrate_body_rate,
-    quat_conjugate,
-    quat_from_rotvec,
-    quat_multiply,
-    quat_normalize,
     quat_to_dcm,
-    quat_to_rotvec,
 )
 from quadlib.imu import ImuNoise
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_positive
 
 __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",
-           "fixedwing_accel_sensor", "fixedwing_error_model", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
-           "lowpass2", "mag_jacobian", "mag_model", "quaternion_rate_matrix"]
+           "fixedwing_accel_sensor", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
+           "lowpass2", "mag_jacobian", "mag_model"]
 
-
-
-def quaternion_rate_matrix(q) -> np.ndarray:
-    """``Ξ(q)``, ``(4, 3)``: ``q̇ = ½ Ξ(q) ω`` for body rates ω (eq. 11 without its ½)."""
-    q0, q1, q2, q3 = q
-    return np.array([[-q1, -q2, -q3], [q0, -q3, q2], [q3, q0, -q1], [-q2, q1, q0]])
 
 
 def fixedwing_f(x, omega) -> np.ndarray:
@@ -158,24 +154,6 @@ class FixedWingNoise(ImuNoise):
     inclination_rad: float = field(default=float(np.radians(65.0)))
 
 
-STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
-GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")
-
-
-def _normalize_attitude(x):
-    """§8.2: the quaternion part back to unit norm, the biases unchanged."""
-    return np.concatenate([quat_normalize(x[:4]), x[4:]])
-
-
-def _normalize_attitude_jacobian(x):
-    """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the biases."""
-    J = np.eye(7)
-    norm = float(np.linalg.norm(x[:4]))
-    q_hat = x[:4] / norm
-    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
-    return J
-
-
 def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
     """Salmony's EKF model: the Euler step ``x + Δt f(x, ω)`` of eqs. (9)–(12), corrected (E18, E19),
     with ``G = I + Δt A``; process noise from the gyro's white noise and the bias random walk.
@@ -190,63 +168,8 @@ def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=lambda x, u, dt: x + dt * fixedwing_f(x, u),
                  G=lambda x, u, dt: np.eye(7) + dt * fixedwing_A(x, u),
                  Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
-                 normalize=_normalize_attitude, normalize_jacobian=_normalize_attitude_jacobian,
+                 normalize=normalize_attitude, normalize_jacobian=normalize_attitude_jacobian,
                  name="Salmony fixed-wing")
-
-
-def _add_error(x, e):
-    return np.concatenate([quat_multiply(x[:4], quat_from_rotvec(e[:3])), x[4:] + e[3:]])
-
-
-def _error_between(x1, x0):
-    return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(x0[:4]), x1[:4])), x1[4:] - x0[4:]])
-
-
-def _add_jacobian(x):
-    """``∂(x ⊞ δx)/∂δx`` at 0: ``q ⊗ exp(δθ) ≈ q + ½ Ξ(q) δθ``, and the identity for the bias."""
-    J = np.zeros((7, 6))
-    J[:4, :3] = 0.5 * quaternion_rate_matrix(x[:4])
-    J[4:, 3:] = np.eye(3)
-    return J
-
-
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def _error_jacobian(x, u, dt):
-    """``∂δx_{k+1}/∂δx_k`` for ``q ⊞ δθ = q ⊗ exp(δθ)`` and the step ``φ = (ω − b) Δt``: the error
-    turns back with the step (``R(φ)ᵀ``), and the bias error enters through SO(3)'s right Jacobian,
-    ``−Δt J_r(φ)``, ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``."""
-    phi = (u - x[4:]) * dt
-    theta, K = float(np.linalg.norm(phi)), _skew(phi)
-    if theta > 1e-6:
-        a, b = (1.0 - np.cos(theta)) / theta**2, (theta - np.sin(theta)) / theta**3
-    else:  # the series of both coefficients
-        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
-    G = np.eye(6)
-    G[:3, :3] = quat_to_dcm(quat_from_rotvec(phi)).T
-    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * K @ K)
-    return G
-
-
-def fixedwing_error_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
-    """The same state as :func:`fixedwing_model` with a 6-D error ``[δθ, δb]`` (``q ⊗ exp(δθ)``,
-    ``b + δb``) and the exact gyro step ``q ⊗ exp((ω − b) Δt)``: the multiplicative EKF's model in
-    :class:`~quadlib.ModelEKF`, the error-state UKF's in :class:`~quadlib.ModelUKF`. The sensors of
-    this module serve it unchanged: their ``H`` (with respect to the 7 states) is chained with ``∂(x ⊞ δx)/∂δx``.
-
-    .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t)^2 I_3,\\; \\sigma_b^2 \\Delta t\\, I_3\\big)
-    """
-    sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
-    sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
-    return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
-                 g=lambda x, u, dt: np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]]),
-                 G=_error_jacobian, Q=lambda dt: np.diag([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3),
-                 error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
-                 state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
-                 normalize=_normalize_attitude,
-                 name="fixed-wing error state")
 
 
 def fixedwing_accel_sensor(sigma_m_s2: float, unmodelled_m_s2: float | None = None) -> Sensor:

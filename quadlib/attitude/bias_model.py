@@ -1,0 +1,103 @@
+"""The attitude-and-gyro-bias model every multiplicative attitude estimator shares.
+
+State ``x = [q_nb (4), b (3)]``: the attitude (scalar first) and the gyro's bias [rad/s]; input the
+gyro ``ω`` [rad/s]; error ``δx = [δθ (3), δb (3)]`` with ``q ⊗ exp(δθ)`` (a small rotation in the
+body frame) and ``b + δb``. Used by the fixed-wing multiplicative EKF and error-state UKF.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from quadlib.geometry.quaternion import (
+    integrate_body_rate,
+    quat_conjugate,
+    quat_from_rotvec,
+    quat_multiply,
+    quat_normalize,
+    quat_to_dcm,
+    quat_to_rotvec,
+)
+from quadlib.model import Model
+from quadlib.validation import as_positive
+
+__all__ = ["GYRO_NAMES", "STATE_NAMES", "attitude_bias_model", "normalize_attitude", "normalize_attitude_jacobian",
+           "quaternion_rate_matrix"]
+
+STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
+GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")
+
+
+def quaternion_rate_matrix(q) -> np.ndarray:
+    """``Ξ(q)``, ``(4, 3)``: ``q̇ = ½ Ξ(q) ω`` for body rates ω (``q ⊗ [0, ω] = Ξ(q) ω``)."""
+    q0, q1, q2, q3 = q
+    return np.array([[-q1, -q2, -q3], [q0, -q3, q2], [q3, q0, -q1], [-q2, q1, q0]])
+
+
+def normalize_attitude(x):
+    """The quaternion part back to unit norm, the biases unchanged."""
+    return np.concatenate([quat_normalize(x[:4]), x[4:]])
+
+
+def normalize_attitude_jacobian(x):
+    """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the biases."""
+    J = np.eye(7)
+    norm = float(np.linalg.norm(x[:4]))
+    q_hat = x[:4] / norm
+    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
+    return J
+
+
+def _add_error(x, e):
+    return np.concatenate([quat_multiply(x[:4], quat_from_rotvec(e[:3])), x[4:] + e[3:]])
+
+
+def _error_between(x1, x0):
+    return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(x0[:4]), x1[:4])), x1[4:] - x0[4:]])
+
+
+def _add_jacobian(x):
+    """``∂(x ⊞ δx)/∂δx`` at 0: ``q ⊗ exp(δθ) ≈ q + ½ Ξ(q) δθ``, and the identity for the bias."""
+    J = np.zeros((7, 6))
+    J[:4, :3] = 0.5 * quaternion_rate_matrix(x[:4])
+    J[4:, 3:] = np.eye(3)
+    return J
+
+
+def _skew(v):
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _error_jacobian(x, u, dt):
+    """``∂δx_{k+1}/∂δx_k`` for ``q ⊞ δθ = q ⊗ exp(δθ)`` and the step ``φ = (ω − b) Δt``: the error
+    turns back with the step (``R(φ)ᵀ``), and the bias error enters through SO(3)'s right Jacobian,
+    ``−Δt J_r(φ)``, ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``."""
+    phi = (u - x[4:]) * dt
+    theta, K = float(np.linalg.norm(phi)), _skew(phi)
+    if theta > 1e-6:
+        a, b = (1.0 - np.cos(theta)) / theta**2, (theta - np.sin(theta)) / theta**3
+    else:  # the series of both coefficients
+        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
+    G = np.eye(6)
+    G[:3, :3] = quat_to_dcm(quat_from_rotvec(phi)).T
+    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * K @ K)
+    return G
+
+
+def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
+    """Attitude ``q_nb`` and gyro bias ``b`` (7 states) with a 6-D error ``[δθ, δb]`` (``q ⊗ exp(δθ)``,
+    ``b + δb``) and the exact gyro step ``q ⊗ exp((ω − b) Δt)``: the multiplicative EKF's model in
+    :class:`~quadlib.ModelEKF`, the error-state UKF's in :class:`~quadlib.ModelUKF`. A sensor's ``H``
+    with respect to the 7 states serves it unchanged: it is chained with ``∂(x ⊞ δx)/∂δx``.
+
+    .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t)^2 I_3,\\; \\sigma_b^2 \\Delta t\\, I_3\\big)
+    """
+    sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
+    sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
+    return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
+                 g=lambda x, u, dt: np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]]),
+                 G=_error_jacobian, Q=lambda dt: np.diag([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3),
+                 error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
+                 state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
+                 normalize=normalize_attitude,
+                 name="attitude and gyro bias, error state")
