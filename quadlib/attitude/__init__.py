@@ -31,6 +31,7 @@ from .kesten import (
     tqkf,
     vector_jacobian,
 )
+from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor
 from .tumble import random_rotation
 
 __all__ = [
@@ -39,6 +40,7 @@ __all__ = [
     "FILTERS",
     "GYRO_NAMES",
     "KestenFilter",
+    "OrientationParams",
     "SEA_LEVEL_HPA",
     "STATE_NAMES",
     "SensorChecks",
@@ -47,7 +49,10 @@ __all__ = [
     "attitude_bias_model",
     "baro_altitude_sensor",
     "blend_weight",
+    "estimate_orientation",
     "euler_rate_complementary",
+    "gravity_sensor",
+    "heading_sensor",
     "linear_complementary",
     "nonlinear_complementary",
     "normalize_attitude",

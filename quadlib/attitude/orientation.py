@@ -1,0 +1,131 @@
+"""Orientation of a strapdown IMU: a multiplicative EKF over attitude and gyro bias.
+
+The gyro drives the prediction (:func:`~quadlib.attitude.bias_model.attitude_bias_model`); two
+updates correct it, each only where its sensor can be trusted:
+
+* **gravity** — the accelerometer as the specific force at rest, ``h(x) = R(q)ᵀ(−g_n)``, skipped
+  when its norm is off g₀ (:mod:`quadlib.attitude.checks`) and gated on its NIS, so motion,
+  shocks and free fall do not tilt the estimate;
+* **heading** — the magnetometer corrects the heading only: the measured field, turned into the
+  earth frame with the current attitude, should point to magnetic north; its horizontal angle is
+  the innovation. The field's dip never touches roll and pitch (they come from gravity), and
+  samples whose norm, dip or repetition say "disturbed" are skipped.
+
+Gyro bias is estimated in both cases (it is observable about every axis a sensor sees).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from quadlib.attitude.bias_model import attitude_bias_model
+from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
+from quadlib.attitude.kesten import vector_jacobian
+from quadlib.constants import GRAVITY_N
+from quadlib.filters import ModelEKF
+from quadlib.geometry.quaternion import quat_to_dcm
+from quadlib.geometry.rotations import wrap_angle
+from quadlib.geometry.vector_attitude import attitude_from_accel_mag
+from quadlib.imu import ImuLog
+from quadlib.model import Sensor
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements
+
+__all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor"]
+
+
+@dataclass(frozen=True)
+class OrientationParams:
+    """Parameters of :func:`estimate_orientation`, each with its unit.
+
+    Parameters
+    ----------
+    gyro_sigma_rad_s : float
+        Gyro white noise per sample [rad/s].
+    gyro_bias_walk_rad_s_sqrt_s : float
+        Random walk of the gyro bias [rad/s/√s].
+    gravity_sigma_m_s2 : float
+        Accelerometer σ for the gravity update [m/s²]: sensor noise plus the motion's own
+        accelerations, which the update treats as noise.
+    heading_sigma_rad : float
+        σ of one magnetometer heading [rad].
+    initial_bias_sigma_rad_s : float
+        σ of the gyro bias at the start [rad/s] (the bias starts at zero).
+    gate_probability : float or None
+        χ² gate on both updates.
+    checks : SensorChecks
+        When an accelerometer or magnetometer sample is implausible and skipped.
+    """
+
+    gyro_sigma_rad_s: float = 0.005
+    gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
+    gravity_sigma_m_s2: float = 1.0
+    heading_sigma_rad: float = 0.1
+    initial_bias_sigma_rad_s: float = 0.01
+    gate_probability: float | None = 0.999
+    checks: SensorChecks = field(default_factory=SensorChecks)
+
+
+def gravity_sensor(sigma_m_s2: float) -> Sensor:
+    """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]."""
+    up = -GRAVITY_N
+    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: quat_to_dcm(x[:4]).T @ up,
+                  H=lambda x: np.hstack([vector_jacobian(x[:4], up), np.zeros((3, 3))]), R=sigma_m_s2**2 * np.eye(3))
+
+
+def _field_heading(x, m_b):
+    m_n = quat_to_dcm(x[:4], unit_tolerance=None) @ m_b
+    return np.array([np.arctan2(m_n[1], m_n[0])])
+
+
+def heading_sensor(sigma_rad: float, declination_rad: float = 0.0) -> Sensor:
+    """The magnetometer's heading: the sample (its context) turned into the earth frame with the
+    attitude should point ``declination_rad`` east of north. The measurement is that declination."""
+    eps = 1e-6
+
+    def H(x, m_b):  # central differences through the quaternion (the model chains them to the error)
+        J = np.zeros((1, 7))
+        for j in range(4):
+            d = np.zeros(7)
+            d[j] = eps
+            J[0, j] = wrap_angle(_field_heading(x + d, m_b) - _field_heading(x - d, m_b))[0] / (2 * eps)
+        return J
+
+    return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
+                  h=_field_heading, H=H, R=np.full((1, 1), sigma_rad**2),
+                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
+
+
+def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationParams(),
+                         declination_rad: float = 0.0) -> FilterRun:
+    """``q_nb`` and the gyro bias of an IMU over a log: ``run.x[:, :4]`` is the attitude (sensor → NED).
+
+    Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
+    """
+    if not isinstance(log, ImuLog):
+        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    checks = params.checks
+    good_a = plausible_accel(log.accel, checks)
+    field_n = None
+    has_mag = log.mag is not None
+    accel = np.where(good_a[:, None], log.accel, np.nan)
+    if has_mag:
+        start = attitude_from_accel_mag(np.nan_to_num(log.accel[:200]), np.nan_to_num(log.mag[:200]))
+        first = int(np.argmax(start.valid))
+        q0 = start.q_nb[first]
+        field_n = quat_to_dcm(q0) @ log.mag[first]
+        good_m = plausible_mag(log.mag, log.accel, field_n, checks)
+    else:
+        q0 = np.array([1.0, 0.0, 0.0, 0.0])
+    dt = float(np.median(log.dt))
+    P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
+    ekf = ModelEKF(attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s),
+                   np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
+    measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2), log.t, accel)]
+    if has_mag:
+        context = np.where(good_m[:, None], log.mag, np.nan)
+        measurements.append(Measurements(heading_sensor(params.heading_sigma_rad, declination_rad), log.t,
+                                         np.full(len(log), declination_rad), context=context))
+    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability)
