@@ -316,3 +316,22 @@ def test_covariance_stays_positive_definite_and_is_checked_where_it_enters():
     f = ModelEKF(shrinking, [0.0], [[1.0]], 0.1)  # Q(0.1) is fine
     with pytest.raises(ValueError, match=r"shrinking.Q\(dt=0.01\): expected a positive semi-definite"):
         f.predict(dt=0.01)
+
+
+def test_a_reset_on_a_sensor_blind_to_one_direction_keeps_the_covariance_sane():
+    """Gravity cannot see a turn about itself: the reset must not invert the differences' noise in that
+    direction (with numpy's default cutoff P grew to ~1e20 from this attitude)."""
+    from quadlib.attitude.bias_model import attitude_bias_model
+    from quadlib.attitude.orientation import gravity_sensor
+    from quadlib.geometry.quaternion import quat_from_euler
+
+    q0 = quat_from_euler(0.3, 0.2, 1.1)
+    f = ModelEKF(attitude_bias_model(0.005, 1e-4), np.r_[q0, 0, 0, 0], np.diag([1e-4] * 3 + [1e-6] * 3), 0.01)
+    truth = quat_from_euler(0.9, -0.2, 1.1)  # 40° of tilt away
+    sensor = gravity_sensor(0.5)
+    z = sensor.h(np.r_[truth, 0, 0, 0])
+    f.inflate_toward(sensor, z, (0,))
+    assert np.isfinite(f.P).all() and np.abs(f.P).max() < 10.0
+    f.update_sensor(sensor, z)
+    tilt_error = np.degrees(np.arccos(np.clip(sensor.h(f.estimate) @ z / 9.80665**2, -1, 1)))
+    assert tilt_error < 10.0  # the reset lets the measurement pull the tilt most of the way
