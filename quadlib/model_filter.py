@@ -250,7 +250,7 @@ class ModelFilter:
             d[j] = eps[j]
             plus, minus = h(self._apply_error(x, d)), h(self._apply_error(x, -d))
             J[:, j] = np.asarray(sensor.residual(plus, minus), dtype=float)[rows] / (2 * eps[j])
-        J_pinv = np.linalg.pinv(J, rcond=1e-6)  # directions the sensor does not see (below the differences' noise) stay out
+        J_pinv = np.linalg.pinv(J, rcond=1e-6)  # directions the sensor cannot see (below the noise) stay out
         self.P = self.P + J_pinv @ np.diag(y**2) @ J_pinv.T
         self.P = 0.5 * (self.P + self.P.T)
 
