@@ -80,21 +80,25 @@ def _field_heading(x, m_b):
     return np.array([np.arctan2(m_n[1], m_n[0])])
 
 
+_CONJUGATE = np.diag([1.0, -1.0, -1.0, -1.0])
+
+
+def _field_heading_jacobian(x, m_b):
+    """``∂ atan2(m_y, m_x)/∂x`` with ``m = R(q) m_b``: ``R(q) v = R(q*)ᵀ v`` is quadratic in ``q``, so
+    its derivative is Kesten's exact one at ``q*``; the biases do not enter."""
+    m_n = quat_to_dcm(x[:4], unit_tolerance=None) @ m_b
+    d_heading = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
+    J = np.zeros((1, 7))
+    J[0, :4] = d_heading @ vector_jacobian(_CONJUGATE @ x[:4], m_b) @ _CONJUGATE
+    return J
+
+
 def heading_sensor(sigma_rad: float, declination_rad: float = 0.0) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
     attitude should point ``declination_rad`` east of north. The measurement is that declination."""
-    eps = 1e-6
-
-    def H(x, m_b):  # central differences through the quaternion (the model chains them to the error)
-        J = np.zeros((1, 7))
-        for j in range(4):
-            d = np.zeros(7)
-            d[j] = eps
-            J[0, j] = wrap_angle(_field_heading(x + d, m_b) - _field_heading(x - d, m_b))[0] / (2 * eps)
-        return J
 
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
-                  h=_field_heading, H=H, R=np.full((1, 1), sigma_rad**2),
+                  h=_field_heading, H=_field_heading_jacobian, R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
 
 

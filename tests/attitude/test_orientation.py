@@ -51,3 +51,18 @@ def test_a_magnet_near_the_sensor_does_not_turn_the_heading():
 def test_bad_arguments_are_named():
     with pytest.raises(TypeError, match="log: expected an ImuLog, got tuple"):
         estimate_orientation((np.zeros(3), np.zeros((3, 3))))
+
+
+def test_the_heading_jacobian_is_exact_in_error_coordinates():
+    from quadlib.attitude.bias_model import attitude_bias_model
+    from quadlib.attitude.orientation import heading_sensor
+    from quadlib.geometry.quaternion import quat_normalize
+
+    model, sensor, rng = attitude_bias_model(0.005, 1e-4), heading_sensor(0.1), np.random.default_rng(1)
+    for _ in range(20):
+        x = np.r_[quat_normalize(rng.normal(size=4)), rng.normal(size=3) * 0.01]
+        m_b, eps = rng.normal(size=3) * 30, 1e-6
+        analytic = sensor.H(x, m_b) @ model.add_jacobian(x)
+        differences = [sensor.residual(sensor.h(model.state_add(x, eps * e), m_b),
+                                       sensor.h(model.state_add(x, -eps * e), m_b))[0] / (2 * eps) for e in np.eye(6)]
+        np.testing.assert_allclose(analytic[0], differences, rtol=1e-6, atol=1e-9)
