@@ -18,19 +18,7 @@ from .bias_model import (
 )
 from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
-from .kesten import (
-    FILTERS,
-    AttitudeNoise,
-    AttitudeRun,
-    KestenFilter,
-    qf,
-    qkf,
-    run_attitude_filter,
-    tovkf,
-    tqf,
-    tqkf,
-    vector_jacobian,
-)
+from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
 from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor
 from .tumble import random_rotation
 
@@ -68,6 +56,5 @@ __all__ = [
     "tovkf",
     "tqf",
     "tqkf",
-    "vector_jacobian",
     "vertical_specific_force",
 ]

@@ -49,12 +49,14 @@ from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import (
+    body_vector,
     integrate_body_rate,
     quat_conjugate,
     quat_from_rotvec,
     quat_multiply,
     quat_normalize,
     quat_to_rotvec,
+    vector_jacobian,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise
@@ -64,7 +66,7 @@ from quadlib.samples import Measurements
 from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
-           "tqf", "tqkf", "vector_jacobian"]
+           "tqf", "tqkf"]
 
 @dataclass(frozen=True)
 class AttitudeNoise(ImuNoise):
@@ -113,24 +115,6 @@ class AttitudeNoise(ImuNoise):
     def r_mag(self) -> float:
         """Angular variance of one magnetometer direction, σ²_m/|m|² (eq. 2.34)."""
         return self.mag_sigma**2 / float(self.field_n @ self.field_n)
-
-
-def _dcm_h(q):
-    """``R(q)`` written as a homogeneous quadratic in ``q`` (equal to the usual one for unit q)."""
-    w, x, y, z = q
-    return np.array([[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]])
-
-
-def vector_jacobian(q, v_n) -> np.ndarray:
-    """``∂(R(q)ᵀ v_n)/∂q``, ``(3, 4)``: the blocks of Kesten eq. (2.54).
-
-    ``R(q)ᵀ v`` is a homogeneous quadratic in ``q``, so a central difference with unit steps is
-    exact: column ``j`` is ``(f(q + e_j) − f(q − e_j)) / 2``.
-    """
-    q, v = np.asarray(q, dtype=float), np.asarray(v_n, dtype=float)
-    return np.column_stack([(_dcm_h(q + e).T @ v - _dcm_h(q - e).T @ v) / 2.0 for e in np.eye(4)])
 
 
 class KestenFilter(NamedTuple):
@@ -287,7 +271,7 @@ def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Quaternion Kalman filter: the accelerometer and the magnetometer as nonlinear measurements
     of q (eqs. 2.25, 2.49–2.54), each updated on its own."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: _dcm_h(x).T @ ref,
+    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: body_vector(x, ref),
                            H=lambda x, ref=ref: vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
                     for name, ref, sigma in (("accel", noise.accel_n, noise.accel_sigma_m_s2),
                                              ("mag", noise.field_n, noise.mag_sigma)))
@@ -310,7 +294,7 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                                             ("mag", noise.field_n, noise.r_mag))):
         H = np.zeros((3, 6))
         H[:, 3 * block:3 * block + 3] = np.eye(3)
-        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: _dcm_h(q).T @ ref,
+        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: body_vector(q, ref),
                               H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
                         lambda log: (_accel(log, checks), _mag(log, noise, checks)))

@@ -22,10 +22,9 @@ import numpy as np
 
 from quadlib.attitude.bias_model import attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
-from quadlib.attitude.kesten import vector_jacobian
 from quadlib.constants import GRAVITY_N
 from quadlib.filters import ModelEKF
-from quadlib.geometry.quaternion import quat_to_dcm
+from quadlib.geometry.quaternion import body_vector, quat_to_dcm, vector_jacobian
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
@@ -71,7 +70,7 @@ class OrientationParams:
 def gravity_sensor(sigma_m_s2: float) -> Sensor:
     """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]."""
     up = -GRAVITY_N
-    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: quat_to_dcm(x[:4]).T @ up,
+    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: body_vector(x[:4], up),
                   H=lambda x: np.hstack([vector_jacobian(x[:4], up), np.zeros((3, 3))]), R=sigma_m_s2**2 * np.eye(3))
 
 

@@ -3,6 +3,7 @@
 from .quaternion import (
     UNIT_TOLERANCE,
     body_rates_between,
+    body_vector,
     integrate_body_rate,
     integrate_body_rate_linear,
     quat_canonical,
@@ -16,6 +17,7 @@ from .quaternion import (
     quat_to_dcm,
     quat_to_euler,
     quat_to_rotvec,
+    vector_jacobian,
 )
 from .rotations import (
     FREE_FALL_M_S2,
@@ -45,6 +47,7 @@ __all__ = [
     "average_quaternion",
     "average_rotvec",
     "body_rates_between",
+    "body_vector",
     "dcm_dyaw",
     "dcm_to_euler",
     "euler_rate_matrix",
@@ -63,5 +66,6 @@ __all__ = [
     "quat_to_dcm",
     "quat_to_euler",
     "quat_to_rotvec",
+    "vector_jacobian",
     "wrap_angle",
 ]

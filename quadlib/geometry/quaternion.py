@@ -15,9 +15,9 @@ import numpy as np
 
 from quadlib.validation import as_finite_array, as_quaternions, as_vectors3
 
-__all__ = ["UNIT_TOLERANCE", "body_rates_between", "integrate_body_rate", "integrate_body_rate_linear",
+__all__ = ["UNIT_TOLERANCE", "body_rates_between", "body_vector", "integrate_body_rate", "integrate_body_rate_linear",
            "quat_canonical", "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply",
-           "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec"]
+           "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec", "vector_jacobian"]
 
 
 def quat_multiply(p, q) -> np.ndarray:
@@ -201,3 +201,28 @@ def body_rates_between(q_nb, dt: float) -> np.ndarray:
     q = as_quaternions("q_nb", q_nb)
     omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / float(dt)
     return np.vstack([omega, omega[-1:]])
+
+
+def _dcm_homogeneous(q):
+    """``R(q)`` written as a homogeneous quadratic in ``q`` (equal to :func:`quat_to_dcm` for unit q)."""
+    w, x, y, z = q
+    return np.array([[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]])
+
+
+def body_vector(q, v_n) -> np.ndarray:
+    """``R(q)ᵀ v_n``, ``(3,)``: an earth-frame vector seen in the body frame of one quaternion ``q``,
+    written as a homogeneous quadratic in ``q`` (its length scales with ``|q|²``; for a unit ``q``
+    it is the rotated vector). The measurement model of a gravity or field sensor."""
+    return _dcm_homogeneous(q).T @ np.asarray(v_n, dtype=float)
+
+
+def vector_jacobian(q, v_n) -> np.ndarray:
+    """``∂(R(q)ᵀ v_n)/∂q``, ``(3, 4)``, of :func:`body_vector`: the blocks of Kesten eq. (2.54).
+
+    ``R(q)ᵀ v`` is a homogeneous quadratic in ``q``, so a central difference with unit steps is
+    exact: column ``j`` is ``(f(q + e_j) − f(q − e_j)) / 2``.
+    """
+    q, v = np.asarray(q, dtype=float), np.asarray(v_n, dtype=float)
+    return np.column_stack([body_vector(q + e, v) - body_vector(q - e, v) for e in np.eye(4)]) / 2.0

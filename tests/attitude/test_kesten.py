@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from quadlib.attitude.kesten import FILTERS, AttitudeNoise, qf, run_attitude_filter, tqf, vector_jacobian
+from quadlib.attitude.kesten import FILTERS, AttitudeNoise, qf, run_attitude_filter, tqf
 from quadlib.attitude.tumble import random_rotation
 from quadlib.geometry.quaternion import (
     integrate_body_rate,
@@ -13,6 +13,7 @@ from quadlib.geometry.quaternion import (
     quat_from_rotvec,
     quat_multiply,
     quat_to_rotvec,
+    vector_jacobian,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
