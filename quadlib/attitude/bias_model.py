@@ -21,8 +21,8 @@ from quadlib.geometry.quaternion import (
 from quadlib.model import Model
 from quadlib.validation import as_positive
 
-__all__ = ["GYRO_NAMES", "STATE_NAMES", "attitude_bias_model", "normalize_attitude", "normalize_attitude_jacobian",
-           "quaternion_rate_matrix"]
+__all__ = ["GYRO_NAMES", "STATE_NAMES", "attitude_bias_model", "gyro_step", "gyro_step_jacobian", "normalize_attitude",
+           "normalize_attitude_jacobian", "quaternion_rate_matrix"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
 GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")
@@ -32,6 +32,32 @@ def quaternion_rate_matrix(q) -> np.ndarray:
     """``Ξ(q)``, ``(4, 3)``: ``q̇ = ½ Ξ(q) ω`` for body rates ω (``q ⊗ [0, ω] = Ξ(q) ω``)."""
     q0, q1, q2, q3 = q
     return np.array([[-q1, -q2, -q3], [q0, -q3, q2], [q3, q0, -q1], [-q2, q1, q0]])
+
+
+def gyro_step(x, u, dt):
+    """The exact gyro step of ``x = [q, b]``: ``[q ⊗ exp((ω − b) Δt), b]``, ``(7,)``."""
+    return np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]])
+
+
+def gyro_step_jacobian(x, u, dt):
+    """``∂ gyro_step / ∂x``, ``(7, 7)``, exact. With ``φ = (ω − b) Δt``, ``θ = |φ|``, ``n = φ/θ`` and
+    ``δq = exp(φ) = [cos(θ/2), sin(θ/2) n]``: ``∂/∂q`` is right multiplication by ``δq`` and
+    ``∂/∂b = −Δt Ξ(q) ∂(sin(θ/2) n)/∂φ − Δt q ∂cos(θ/2)/∂φ``, where ``q ⊗ δq = δq₀ q + Ξ(q) δq_v``."""
+    q = x[:4]
+    phi = (u - x[4:]) * dt
+    theta = float(np.linalg.norm(phi))
+    c, half = np.cos(theta / 2.0), 0.5 * theta
+    sinc = np.sin(half) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
+    # d(sin(θ/2)/θ)/dθ / θ, the coefficient of φ φᵀ in ∂(sin(θ/2) n)/∂φ, and its series
+    k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
+    w, v = c, sinc * phi
+    J = np.eye(7)
+    J[:4, :4] = np.array([[w, -v[0], -v[1], -v[2]], [v[0], w, v[2], -v[1]],
+                          [v[1], -v[2], w, v[0]], [v[2], v[1], -v[0], w]])
+    d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
+    d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
+    J[:4, 4:] = -dt * (np.outer(q, d_w) + quaternion_rate_matrix(q) @ d_v)
+    return J
 
 
 def normalize_attitude(x):
@@ -95,7 +121,7 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
-                 g=lambda x, u, dt: np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]]),
+                 g=gyro_step,
                  G=_error_jacobian, Q=lambda dt: np.diag([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3),
                  error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
                  state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,

@@ -15,13 +15,13 @@ import numpy as np
 
 from quadlib.constants import G0, GRAVITY_N, earth_field_ned
 from quadlib.fixedwing.model import FixedWingNoise
-from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_to_dcm
+from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, quat_multiply, quat_to_dcm, quat_to_euler
 from quadlib.imu import ImuLog
 from quadlib.sim.imu import BodyMotion, imu_samples
 from quadlib.sim.trajectories import min_jerk
 from quadlib.validation import as_positive, as_rng
 
-__all__ = ["FixedWingFlight", "fixedwing_flight", "fixedwing_samples"]
+__all__ = ["FixedWingFlight", "aileron_roll", "fixedwing_flight", "fixedwing_samples"]
 
 
 
@@ -52,15 +52,28 @@ def fixedwing_flight(rate_hz: float = 100.0, airspeed_m_s: float = 20.0) -> Fixe
     yaw_rate = np.gradient(yaw, t)
     roll = np.arctan(airspeed * yaw_rate / G0)  # coordinated
     pitch = _blend(t, [(22.0, 24.0, np.radians(5.0)), (28.0, 30.0, -np.radians(5.0))]) + np.radians(2.0)
-    q = quat_from_euler(roll, pitch, yaw)
-    dt = t[1] - t[0]
-    omega = body_rates_between(q, dt)
-    R = quat_to_dcm(q)
+    return _flight(t, quat_from_euler(roll, pitch, yaw), airspeed)
+
+
+def _flight(t, q, airspeed) -> FixedWingFlight:
+    """The flight along body x at ``airspeed`` with attitudes ``q``: rates, specific force (eq. 1)."""
+    omega = body_rates_between(q, t[1] - t[0])
     v_b = np.column_stack([airspeed, np.zeros((t.size, 2))])
     f_b = (np.column_stack([np.gradient(airspeed, t), np.zeros((t.size, 2))]) + np.cross(omega, v_b)
-           - np.einsum("nji,j->ni", R, GRAVITY_N))
-    return FixedWingFlight(t=t, q_nb=q, euler=np.column_stack([roll, pitch, np.mod(yaw + np.pi, 2 * np.pi) - np.pi]),
-                           omega_b=omega, f_b=f_b, airspeed=airspeed)
+           - np.einsum("nji,j->ni", quat_to_dcm(q), GRAVITY_N))
+    return FixedWingFlight(t=t, q_nb=q, euler=np.column_stack(quat_to_euler(q)), omega_b=omega, f_b=f_b,
+                           airspeed=airspeed)
+
+
+def aileron_roll(flight: FixedWingFlight, start_s: float, rate_rad_s: float, turns: int = 1) -> FixedWingFlight:
+    """``flight`` with ``turns`` full rolls about body x at a constant ``rate_rad_s`` added from
+    ``start_s`` on: the attitude becomes ``q ⊗ exp(φ(t) e_x)``, the path and airspeed stay."""
+    rate = as_positive("rate_rad_s", rate_rad_s)
+    if not flight.t[0] <= start_s < flight.t[-1]:
+        raise ValueError(f"start_s: expected a time within the flight [{flight.t[0]}, {flight.t[-1]}) s, got {start_s}")
+    angle = np.clip((flight.t - start_s) * rate, 0.0, 2 * np.pi * int(turns))
+    roll = np.column_stack([np.cos(angle / 2), np.sin(angle / 2), np.zeros((angle.size, 2))])
+    return _flight(flight.t, quat_multiply(flight.q_nb, roll), flight.airspeed)
 
 
 def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> ImuLog:

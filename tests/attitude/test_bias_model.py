@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from quadlib.attitude.bias_model import attitude_bias_model, normalize_attitude, normalize_attitude_jacobian
+from quadlib.attitude.bias_model import (
+    attitude_bias_model,
+    gyro_step,
+    gyro_step_jacobian,
+    normalize_attitude,
+    normalize_attitude_jacobian,
+)
 from quadlib.geometry.quaternion import quat_canonical
 
 
@@ -30,3 +36,17 @@ def test_the_normalisation_jacobian_removes_the_radial_direction():
     fd = np.column_stack([(normalize_attitude(x + eps * e) - normalize_attitude(x - eps * e)) / (2 * eps)
                           for e in np.eye(7)])
     np.testing.assert_allclose(normalize_attitude_jacobian(x), fd, atol=1e-7)
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-7, 1e-4, 2e-3, 0.3, 2.5])
+def test_the_exact_gyro_step_jacobian_matches_finite_differences(angle):
+    rng = np.random.default_rng(5)
+    x = np.r_[quat_canonical(rng.normal(size=4)), 0.02, -0.01, 0.03]
+    x[:4] /= np.linalg.norm(x[:4])
+    dt = 0.02
+    axis = np.array([0.6, -0.48, 0.64])
+    u = x[4:] + angle / dt * axis  # the step turns by `angle`: each branch of the series
+    eps = 1e-6
+    fd = np.column_stack([(gyro_step(x + eps * e, u, dt) - gyro_step(x - eps * e, u, dt)) / (2 * eps)
+                          for e in np.eye(7)])
+    np.testing.assert_allclose(gyro_step_jacobian(x, u, dt), fd, atol=1e-8)
