@@ -98,7 +98,7 @@ class LinearKF(ModelFilter, KalmanFilter):
         x = self.x[:, 0]
         F = np.asarray(m.G(x, u, dt), dtype=float)
         B = np.asarray(m.B(x, u, dt), dtype=float) if m.dim_u else None
-        KalmanFilter.predict(self, u=u.reshape(-1, 1) if m.dim_u else None, B=B, F=F, Q=self._process_noise(dt))
+        KalmanFilter.predict(self, u=u.reshape(-1, 1) if m.dim_u else None, B=B, F=F, Q=self._process_noise(dt, u))
 
     def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
         self._check_sensor_linear(sensor)
@@ -144,7 +144,7 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         # filterpy's predict calls predict_x (below, the nonlinear g), then P = F P Fᵀ + Q
         x = self.nominal if self.nominal is not None else self.x[:, 0]
         self.F = np.asarray(self.model.G(x, u, dt), dtype=float)
-        self.Q = self._process_noise(dt)
+        self.Q = self._process_noise(dt, u)
         self._step = (x, u, dt)
         ExtendedKalmanFilter.predict(self, u)
 
@@ -262,7 +262,7 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
         # propagate the sigma points through g(x, u, dt), then add Q(dt)
-        self.Q = self._process_noise(dt)
+        self.Q = self._process_noise(dt, u)
         if self.nominal is not None:
             after = np.asarray(self.model.g(self.nominal, u, dt), dtype=float)
             self._fx_refs = (self.nominal, after)

@@ -20,7 +20,7 @@ import numpy as np
 
 from quadlib.validation import as_times
 
-__all__ = ["ImuLog", "ImuNoise"]
+__all__ = ["ImuLog", "ImuNoise", "gyro_saturation_noise", "saturated_step_variance"]
 
 
 @dataclass(frozen=True)
@@ -40,6 +40,10 @@ class ImuNoise:
     mag_sigma : float
         White noise of one magnetometer sample, per axis, in the unit of the field the
         magnetometer reports (gauss, µT, or 1 for a unit vector).
+    gyro_range_rad_s : float or None
+        The gyro's full scale [rad/s] (2000 °/s = 34.9 rad/s is common): simulators clip each
+        axis at it, estimators treat a sample at it as saturated
+        (:func:`saturated_step_variance`). None: no limit.
     """
 
     gyro_sigma_rad_s: float = 0.005
@@ -47,6 +51,46 @@ class ImuNoise:
     gyro_bias_walk_rad_s_sqrt_s: float = 0.0
     accel_sigma_m_s2: float | tuple = 0.15
     mag_sigma: float = 0.01
+    gyro_range_rad_s: float | None = None
+
+    def __post_init__(self):
+        r = self.gyro_range_rad_s
+        if r is not None and not (isinstance(r, (int, float, np.floating)) and np.isfinite(r) and r > 0):
+            raise ValueError(f"{type(self).__name__}.gyro_range_rad_s: expected a positive number [rad/s] or None, "
+                             f"got {r!r}")
+
+
+SATURATED = 0.999  # a sample within 0.1 % of the full scale counts as clipped
+
+
+def saturated_step_variance(gyro, dt: float, gyro_range_rad_s: float | None) -> float | None:
+    """Variance per axis [rad²] of the unknown turn in a gyro step whose sample is saturated.
+
+    A clipped axis says only that the rate is at least the full scale; the turn beyond it over
+    ``dt`` is unknown. It is taken as up to the full scale again, a standard deviation of
+    ``range · Δt`` per step, so a long saturation leaves the attitude unknown and a brief one
+    costs little. Returns None for a sample within range, or when ``gyro_range_rad_s`` is None.
+    """
+    if gyro_range_rad_s is None or np.abs(gyro).max() < SATURATED * gyro_range_rad_s:
+        return None
+    return (gyro_range_rad_s * dt) ** 2
+
+
+def gyro_saturation_noise(gyro_range_rad_s: float | None, scale):
+    """A model's ``input_noise`` (:class:`~quadlib.Model`) for a gyro-driven step: in a saturated
+    step, ``diag(scale) · v`` with ``v`` from :func:`saturated_step_variance` (``scale`` maps the
+    per-axis angle variance onto the error state: 1 per rotation axis, ¼ per quaternion
+    component, 0 for states the gyro does not move). None without a range."""
+    if gyro_range_rad_s is None:
+        return None
+    diagonal = np.diag(np.asarray(scale, dtype=float))
+
+    def input_noise(u, dt):
+        v = saturated_step_variance(u, dt, gyro_range_rad_s)
+        return None if v is None else v * diagonal
+
+    return input_noise
+
 
 
 def _stream(name: str, value, n: int, width: int | None) -> np.ndarray | None:

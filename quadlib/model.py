@@ -81,6 +81,10 @@ class Model:
     residual_x : callable ``residual_x(x1, x0) -> (p,)``, optional
         ``x1 ⊟ x0``: the error that takes ``x0`` to ``x1``, the inverse of
         ``state_add``. Required with ``error_names``.
+    input_noise : callable ``input_noise(u, dt) -> (p, p) or None``, optional
+        Process noise that depends on the step's input, added to ``Q(dt)``; ``None`` when the
+        input adds nothing. A gyro sample at its full scale turns the attitude by an unknown
+        extra angle (:func:`quadlib.imu.saturated_step_variance`).
     add_jacobian : callable ``add_jacobian(x) -> (n, p)``, optional
         ``∂(x ⊞ δx)/∂δx`` at ``δx = 0``. Given, the sensors' ``H`` are taken with
         respect to the full state ``x`` (so one sensor serves both kinds of
@@ -101,6 +105,7 @@ class Model:
     state_add: Callable[[Array, Array], Array] | None = None
     residual_x: Callable[[Array, Array], Array] | None = None
     add_jacobian: Callable[[Array], Array] | None = None
+    input_noise: Callable[[Array, float], Array | None] | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "state_names", _check_names("Model", "state_names", self.state_names))
@@ -117,7 +122,8 @@ class Model:
                              "got error_names=None")
         if self.normalize_jacobian is not None and (self.normalize is None or self.error_names is not None):
             raise ValueError("Model.normalize_jacobian: expected only with normalize on an additive model")
-        optional = ("G", "B", "normalize", "normalize_jacobian", "state_add", "residual_x", "add_jacobian")
+        optional = ("G", "B", "normalize", "normalize_jacobian", "state_add", "residual_x", "add_jacobian",
+                    "input_noise")
         for attr in ("g", "Q") + tuple(a for a in optional if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Model.{attr}: expected a callable, got {type(getattr(self, attr)).__name__}")

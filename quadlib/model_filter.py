@@ -95,13 +95,18 @@ class ModelFilter:
             return self.nominal.copy()
         return np.array(self.x, dtype=float).reshape(-1)
 
-    def _process_noise(self, dt: float) -> np.ndarray:
+    def _process_noise(self, dt: float, u: np.ndarray | None = None) -> np.ndarray:
         # Q depends on dt only. A uniform time grid asks for the same dt every step, up to float
         # jitter (the differences of 0.02 * arange(N) vary in the last bits), so Q(dt) is reused
         # while dt stays within a relative 1e-9 of the dt it was computed for.
         if abs(dt - self._q_dt) > 1e-9 * dt:  # a new dt: its Q is checked like the first one
             self._q_dt, self._q = dt, as_covariance(f"{self.model.name}.Q(dt={dt:g})", self.model.Q(dt),
                                                     self.model.dim_P)
+        if self.model.input_noise is not None:
+            extra = self.model.input_noise(u, dt)
+            if extra is not None:
+                return self._q + as_covariance(f"{self.model.name}.input_noise(u, dt={dt:g})", extra,
+                                               self.model.dim_P)
         return self._q
 
     def state_view(self) -> np.ndarray:

@@ -335,3 +335,20 @@ def test_a_reset_on_a_sensor_blind_to_one_direction_keeps_the_covariance_sane():
     f.update_sensor(sensor, z)
     tilt_error = np.degrees(np.arccos(np.clip(sensor.h(f.estimate) @ z / 9.80665**2, -1, 1)))
     assert tilt_error < 10.0  # the reset lets the measurement pull the tilt most of the way
+
+
+@pytest.mark.parametrize("cls", [LinearKF, ModelEKF, ModelUKF])
+def test_input_noise_is_added_to_q_for_the_inputs_that_ask_for_it(cls):
+    base = constant_velocity()
+    extra = np.diag([0.0, 4.0])
+    model = replace(base, input_noise=lambda u, dt: extra if abs(u[0]) > 10.0 else None)
+    plain, noisy = cls(base, [0.0, 0.0], np.eye(2), 0.1), cls(model, [0.0, 0.0], np.eye(2), 0.1)
+    for u in ([1.0], [20.0]):
+        plain.predict(u)
+        noisy.predict(u)
+        expected = plain.P + (extra if u[0] > 10.0 else 0.0)
+        np.testing.assert_allclose(noisy.P, expected, atol=1e-12)
+        noisy.P = plain.P.copy()
+    bad = cls(replace(base, input_noise=lambda u, dt: -np.eye(2)), [0.0, 0.0], np.eye(2), 0.1)
+    with pytest.raises(ValueError, match=r"cv.input_noise\(u, dt=0.1\)"):
+        bad.predict([0.0])

@@ -22,7 +22,7 @@ from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
 from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor
-from .tumble import random_rotation
+from .tumble import random_rotation, with_spin
 
 __all__ = [
     "AttitudeNoise",
@@ -61,4 +61,5 @@ __all__ = [
     "tqf",
     "tqkf",
     "vertical_specific_force",
+    "with_spin",
 ]

@@ -18,6 +18,7 @@ from quadlib.geometry.quaternion import (
     quat_to_dcm,
     quat_to_rotvec,
 )
+from quadlib.imu import gyro_saturation_noise
 from quadlib.model import Model
 from quadlib.validation import as_positive
 
@@ -110,13 +111,17 @@ def _error_jacobian(x, u, dt):
     return G
 
 
-def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
+def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
+                        gyro_range_rad_s: float | None = None) -> Model:
     """Attitude ``q_nb`` and gyro bias ``b`` (7 states) with a 6-D error ``[δθ, δb]`` (``q ⊗ exp(δθ)``,
     ``b + δb``) and the exact gyro step ``q ⊗ exp((ω − b) Δt)``: the multiplicative EKF's model in
     :class:`~quadlib.ModelEKF`, the error-state UKF's in :class:`~quadlib.ModelUKF`. A sensor's ``H``
     with respect to the 7 states serves it unchanged: it is chained with ``∂(x ⊞ δx)/∂δx``.
 
     .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t)^2 I_3,\\; \\sigma_b^2 \\Delta t\\, I_3\\big)
+
+    With ``gyro_range_rad_s``, a saturated gyro sample adds the attitude variance of
+    :func:`~quadlib.imu.saturated_step_variance`.
     """
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
@@ -126,4 +131,5 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
                  error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
                  state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
                  normalize=normalize_attitude,
+                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [1.0] * 3 + [0.0] * 3),
                  name="attitude and gyro bias, error state")

@@ -59,7 +59,7 @@ from quadlib.geometry.quaternion import (
     vector_jacobian,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
-from quadlib.imu import ImuLog, ImuNoise
+from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
@@ -186,7 +186,7 @@ def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
                  g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(4),
                  Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=quat_normalize,
-                 name="gyro-driven quaternion")
+                 input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
 
 
 def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
@@ -206,7 +206,8 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"), error_names=names,
                  g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(n),
                  Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(n), state_add=state_add, residual_x=residual_x,
-                 normalize=quat_normalize, name="gyro-driven rotation error")
+                 normalize=quat_normalize, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
+                 name="gyro-driven rotation error")
 
 
 def _turn_between(z, z_hat) -> np.ndarray:
@@ -227,7 +228,7 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
                   g=lambda x, u, dt: quat_to_rotvec(integrate_body_rate(quat_from_rotvec(x), u, dt)),
                   G=lambda x, u, dt: np.eye(3), Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(3),
-                  name="orientation vector")
+                  input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * 3), name="orientation vector")
 
     def nearest(z, x):  # z, or the same attitude turned the other way round, whichever is nearer x
         angle = np.linalg.norm(z)

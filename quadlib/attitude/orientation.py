@@ -56,6 +56,9 @@ class OrientationParams:
         χ² gate on both updates.
     checks : SensorChecks
         When an accelerometer or magnetometer sample is implausible and skipped.
+    gyro_range_rad_s : float or None
+        The gyro's full scale [rad/s]; a sample at it adds attitude uncertainty
+        (:func:`~quadlib.imu.saturated_step_variance`). None: never saturates.
     """
 
     gyro_sigma_rad_s: float = 0.005
@@ -65,6 +68,7 @@ class OrientationParams:
     initial_bias_sigma_rad_s: float = 0.01
     gate_probability: float | None = 0.999
     checks: SensorChecks = field(default_factory=SensorChecks)
+    gyro_range_rad_s: float | None = None
 
 
 def gravity_sensor(sigma_m_s2: float) -> Sensor:
@@ -124,7 +128,8 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
         q0 = np.array([1.0, 0.0, 0.0, 0.0])
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
-    ekf = ModelEKF(attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s),
+    ekf = ModelEKF(attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s,
+                                       params.gyro_range_rad_s),
                    np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
     measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2), log.t, accel)]
     if has_mag:

@@ -13,7 +13,7 @@ from quadlib.geometry.quaternion import integrate_body_rate
 from quadlib.sim.imu import BodyMotion, specific_force_at_rest
 from quadlib.validation import as_positive, as_rng
 
-__all__ = ["random_rotation"]
+__all__ = ["random_rotation", "with_spin"]
 
 
 def random_rotation(duration_s: float, rate_hz: float, rng, rms_rate_rad_s: float = 1.0,
@@ -28,8 +28,28 @@ def random_rotation(duration_s: float, rate_hz: float, rng, rms_rate_rad_s: floa
     phases = rng.uniform(0, 2 * np.pi, n_terms)
     omega = (np.sin(np.outer(t, freqs) + phases) @ axes) * as_positive("rms_rate_rad_s", rms_rate_rad_s) * np.sqrt(
         2.0 / n_terms)
+    return _at_rest(t, omega, np.array([1.0, 0.0, 0.0, 0.0]), dt)
+
+
+def with_spin(motion: BodyMotion, start_s: float, duration_s: float, rate_rad_s: float) -> BodyMotion:
+    """``motion`` (a tumble at rest) with ``rate_rad_s`` added about body x over
+    ``[start_s, start_s + duration_s)``, the attitude re-integrated from there on."""
+    if not isinstance(motion, BodyMotion):
+        raise TypeError(f"motion: expected a BodyMotion, got {type(motion).__name__}")
+    omega = motion.omega_b.copy()
+    window = (motion.t >= start_s) & (motion.t < start_s + as_positive("duration_s", duration_s))
+    if not window.any():
+        raise ValueError(f"start_s: expected a time within the motion [{motion.t[0]}, {motion.t[-1]}] s, "
+                         f"got {start_s}")
+    omega[window, 0] += float(rate_rad_s)
+    return _at_rest(motion.t, omega, motion.q_nb[0], motion.t[1] - motion.t[0])
+
+
+def _at_rest(t, omega, q0, dt: float) -> BodyMotion:
+    """Body rates ``omega`` integrated exactly (eq. 2.7) from ``q0`` over steps of ``dt``, no
+    linear acceleration."""
     q = np.empty((t.size, 4))
-    q[0] = [1.0, 0.0, 0.0, 0.0]
+    q[0] = q0
     for k in range(1, t.size):
         q[k] = integrate_body_rate(q[k - 1], omega[k - 1], dt)
     return BodyMotion(t=t, q_nb=q, omega_b=omega, f_b=specific_force_at_rest(q))

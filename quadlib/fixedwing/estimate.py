@@ -72,9 +72,9 @@ class FixedWingTuning:
     gate_probability: float | None = 0.999
 
 
-def _process_noise(noise: FixedWingNoise) -> tuple[float, float]:
+def _process_noise(noise: FixedWingNoise) -> tuple[float, float, float | None]:
     # a filter needs some bias walk and some magnetometer noise even when the simulation has none
-    return noise.gyro_sigma_rad_s, max(noise.gyro_bias_walk_rad_s_sqrt_s, 1e-6)
+    return noise.gyro_sigma_rad_s, max(noise.gyro_bias_walk_rad_s_sqrt_s, 1e-6), noise.gyro_range_rad_s
 
 
 def salmony_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:

@@ -46,7 +46,7 @@ from quadlib.constants import G0, earth_field_ned
 from quadlib.geometry.quaternion import (
     quat_to_dcm,
 )
-from quadlib.imu import ImuNoise
+from quadlib.imu import ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_positive
 
@@ -156,7 +156,8 @@ class FixedWingNoise(ImuNoise):
     inclination_rad: float = field(default=float(np.radians(65.0)))
 
 
-def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float) -> Model:
+def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
+                    gyro_range_rad_s: float | None = None) -> Model:
     """Salmony's EKF model: eqs. (9)–(12), corrected (E18, E19), on the full 7-state; process noise
     from the gyro's white noise and the bias random walk.
 
@@ -169,13 +170,16 @@ def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float)
     .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t / 2)^2 I_4,\\;
               \\sigma_b^2 \\Delta t\\, I_3\\big)
 
-    The quaternion is renormalised after every predict and update (§8.2).
+    The quaternion is renormalised after every predict and update (§8.2). With
+    ``gyro_range_rad_s``, a saturated gyro sample adds the attitude variance of
+    :func:`~quadlib.imu.saturated_step_variance`.
     """
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=gyro_step, G=gyro_step_jacobian,
                  Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
                  normalize=normalize_attitude, normalize_jacobian=normalize_attitude_jacobian,
+                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3),
                  name="Salmony fixed-wing")
 
 

@@ -77,6 +77,8 @@ def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, 
                          axis=0)
     gyro = (motion.omega_b + np.asarray(noise.gyro_bias_rad_s, dtype=float) + walk
             + rng.standard_normal((n, 3)) * noise.gyro_sigma_rad_s)
+    if noise.gyro_range_rad_s is not None:
+        gyro = np.clip(gyro, -noise.gyro_range_rad_s, noise.gyro_range_rad_s)
     accel = motion.f_b + rng.standard_normal((n, 3)) * np.asarray(noise.accel_sigma_m_s2, dtype=float)
     accel[np.arange(n) % accel_every != 0] = np.nan
     mag = None
