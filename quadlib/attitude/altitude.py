@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from quadlib.geometry.quaternion import quat_rotate
+from quadlib.imu import SATURATED
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_positive, as_probability
 
@@ -32,7 +33,7 @@ __all__ = ["SEA_LEVEL_HPA", "altitude_from_pressure", "altitude_model", "baro_al
 SEA_LEVEL_HPA = 1013.25
 
 
-def altitude_model(accel_sigma_m_s2: float, gravity_weight: float) -> Model:
+def altitude_model(accel_sigma_m_s2: float, gravity_weight: float, accel_range_m_s2: float | None = None) -> Model:
     """Eq. (2.68) with input noise σ_a (eqs. 2.69–2.70; the thesis's σ²_a = 3.5·10⁻³ m²/s⁴).
 
     Parameters
@@ -41,6 +42,10 @@ def altitude_model(accel_sigma_m_s2: float, gravity_weight: float) -> Model:
         Standard deviation of one accelerometer sample [m/s²].
     gravity_weight : float
         ``w`` in (0, 1): how much of each ``a_z`` sample enters g̃ (a time constant of ``τ/w``).
+    accel_range_m_s2 : float, optional
+        The accelerometer's full scale [m/s²] (16 g is common). An input at it was clipped: the
+        acceleration beyond it is unknown, taken as up to the full scale again, so that step adds
+        ``range² · B Bᵀ`` to Q (the gyro's rule, :func:`~quadlib.imu.saturated_step_variance`).
     """
     sa = as_positive("accel_sigma_m_s2", accel_sigma_m_s2)
     w = as_probability("gravity_weight", gravity_weight)
@@ -58,8 +63,15 @@ def altitude_model(accel_sigma_m_s2: float, gravity_weight: float) -> Model:
         b = B(None, None, dt)
         return sa**2 * (b @ b.T)
 
+    input_noise = None
+    if accel_range_m_s2 is not None:
+        full_scale = as_positive("accel_range_m_s2", accel_range_m_s2)
+
+        def input_noise(u, dt):
+            return None if abs(u[0]) < SATURATED * full_scale else (full_scale / sa) ** 2 * Q(dt)
+
     return Model(state_names=("s [m]", "v [m/s]", "g~ [m/s2]"), input_names=("a_z up [m/s2]",),
-                 g=g, G=lambda x, u, dt: F(dt), Q=Q, B=B, name="Kesten altitude")
+                 g=g, G=lambda x, u, dt: F(dt), Q=Q, B=B, input_noise=input_noise, name="Kesten altitude")
 
 
 def baro_altitude_sensor(sigma_m: float, rate_hz: float | None = 25.0) -> Sensor:

@@ -24,7 +24,7 @@ from .model import (
     mag_jacobian,
     mag_model,
 )
-from .sim import FixedWingFlight, fixedwing_flight, fixedwing_samples
+from .sim import FixedWingFlight, aileron_roll, fixedwing_flight, fixedwing_samples
 
 __all__ = [
     "FixedWingFlight",
@@ -32,6 +32,7 @@ __all__ = [
     "FixedWingTuning",
     "accel_jacobian",
     "accel_model",
+    "aileron_roll",
     "airspeed_from_pressure",
     "complementary_attitude",
     "error_state_ukf",
