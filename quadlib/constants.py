@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array
+from quadlib.validation import as_finite_number, as_positive
 
 __all__ = ["G0", "GRAVITY_N", "earth_field_ned"]
 
@@ -35,6 +35,7 @@ def earth_field_ned(strength, inclination_rad, declination_rad=0.0) -> np.ndarra
     declination_rad : float
         Angle ``D`` of magnetic north east of true north [rad].
     """
-    s, inc, dec = (float(as_finite_array(n, v, ndim=0)) for n, v in
-                   (("strength", strength), ("inclination_rad", inclination_rad), ("declination_rad", declination_rad)))
+    s = as_positive("strength", strength)
+    inc = as_finite_number("inclination_rad", inclination_rad)
+    dec = as_finite_number("declination_rad", declination_rad)
     return s * np.array([np.cos(inc) * np.cos(dec), np.cos(inc) * np.sin(dec), np.sin(inc)])

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.validation import as_times
+from quadlib.validation import as_float_array, as_times
 
 __all__ = ["ImuLog", "ImuNoise", "gyro_saturation_noise", "saturated_step_variance"]
 
@@ -95,8 +95,10 @@ def gyro_saturation_noise(gyro_range_rad_s: float | None, scale):
 
 def _stream(name: str, value, n: int, width: int | None) -> np.ndarray | None:
     if value is None:
+        if name in ("gyro", "accel"):
+            raise TypeError(f"ImuLog.{name}: expected an (N, 3) array, got None")
         return None
-    arr = np.array(value, dtype=float)  # a copy: the log is frozen, the caller's array is not
+    arr = np.array(as_float_array(f"ImuLog.{name}", value))  # a copy: the log is frozen, the caller's is not
     shape = (n,) if width is None else (n, width)
     if arr.shape != shape:
         raise ValueError(f"ImuLog.{name}: expected shape {shape}, got {arr.shape}")

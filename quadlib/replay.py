@@ -29,7 +29,7 @@ import numpy as np
 
 from quadlib.model_filter import ModelFilter, group_gates
 from quadlib.samples import Measurements, time_resolution
-from quadlib.validation import as_probability, as_times
+from quadlib.validation import as_float_array, as_probability, as_times
 
 __all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "run_filter"]
 
@@ -91,7 +91,7 @@ def _held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Inputs with NaN rows replaced by the previous row, and which rows were."""
     if u is None or model.dim_u == 0:
         return model.check_inputs(u, n), np.zeros(n, bool)
-    arr = np.array(u, dtype=float)
+    arr = np.array(as_float_array("u", u))  # a copy: held rows are filled in
     if arr.ndim == 1 and model.dim_u == 1:
         arr = arr.reshape(-1, 1)
     if arr.shape != (n, model.dim_u):
@@ -140,7 +140,10 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     u, held = _held_inputs(model, u, N)
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
-    measurements = list(measurements)
+    try:
+        measurements = list(measurements)
+    except TypeError as err:
+        raise TypeError(f"measurements: expected a sequence of Measurements, got {measurements!r}") from err
     for i, m in enumerate(measurements):
         if not isinstance(m, Measurements):
             raise TypeError(f"measurements[{i}]: expected Measurements, got {type(m).__name__}")

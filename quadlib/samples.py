@@ -9,12 +9,11 @@ updating it, travel as one :class:`~quadlib.imu.ImuLog`.) Missing samples are ro
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 
 from quadlib.model import Sensor
-from quadlib.validation import as_finite_array
+from quadlib.validation import as_finite_array, as_float_array
 
 __all__ = ["Measurements", "Samples", "time_resolution"]
 
@@ -28,11 +27,33 @@ def time_resolution(t) -> float:
     return max(1e-9, 4 * float(np.finfo(arr.dtype).eps) * float(np.max(np.abs(arr))))
 
 
-class Samples(NamedTuple):
-    """Samples of one sensor: ``z[j]`` (a row) taken at ``t[j]`` [s]; NaN rows are missing samples."""
+@dataclass(frozen=True)
+class Samples:
+    """Samples of one sensor: ``z[j]`` (a row) taken at ``t[j]`` [s]; NaN rows are missing samples.
+
+    ``t`` is finite, 1-D and non-decreasing; ``z`` has one row per time (``(K,)`` or ``(K, k)``),
+    finite or NaN.
+    """
 
     t: np.ndarray
     z: np.ndarray
+
+    def __post_init__(self):
+        t = as_finite_array("Samples.t", self.t, ndim=1)
+        back = np.flatnonzero(np.diff(t) < 0)
+        if back.size:
+            j = int(back[0]) + 1
+            raise ValueError(f"Samples.t: expected non-decreasing times, got t[{j}] = {t[j]:.9g} s before "
+                             f"t[{j - 1}] = {t[j - 1]:.9g} s")
+        try:
+            z = None if isinstance(self.z, (str, bytes)) else np.asarray(self.z, dtype=float)
+        except (TypeError, ValueError):
+            z = None
+        if z is None or z.ndim not in (1, 2) or z.shape[0] != t.shape[0]:
+            raise ValueError(f"Samples.z: expected one row per time, shape ({t.shape[0]},) or ({t.shape[0]}, k), "
+                             f"got {getattr(z, 'shape', repr(self.z))}")
+        if np.isinf(z).any():
+            raise ValueError("Samples.z: expected finite values or NaN for missing, got inf")
 
 
 @dataclass(frozen=True)
@@ -73,7 +94,7 @@ class Measurements:
             j = int(back[0]) + 1
             raise ValueError(f"Measurements({name!r}).t: expected non-decreasing times (sort the log first), got "
                              f"t[{j}] = {t[j]:.9g} s before t[{j - 1}] = {t[j - 1]:.9g} s")
-        z = np.asarray(self.z, dtype=float)
+        z = as_float_array(f"Measurements({name!r}).z", self.z)
         if z.ndim == 1 and self.sensor.dim_z == 1:
             z = z.reshape(-1, 1)
         if z.shape != (t.shape[0], self.sensor.dim_z):
@@ -88,7 +109,7 @@ class Measurements:
                              f" for a sensor with context_names {self.sensor.context_names}, got "
                              f"{None if self.context is None else np.shape(self.context)}")
         if c:
-            context = np.asarray(self.context, dtype=float)
+            context = as_float_array(f"Measurements({name!r}).context", self.context)
             if context.ndim == 1 and c == 1:
                 context = context.reshape(-1, 1)
             if context.shape != (t.shape[0], c) or np.any(np.isinf(context)):

@@ -14,6 +14,8 @@ import numpy as np
 __all__ = [
     "as_covariance",
     "as_finite_array",
+    "as_finite_number",
+    "as_float_array",
     "as_matrix",
     "as_positive",
     "as_probability",
@@ -26,6 +28,8 @@ __all__ = [
 
 
 def _to_array(name: str, value) -> np.ndarray:
+    if isinstance(value, (str, bytes)) or value is None:  # numpy would parse "1.0" or make NaN of None
+        raise TypeError(f"{name}: expected numbers (array_like of float), got {value!r}")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as err:
@@ -60,6 +64,14 @@ def as_finite_array(name: str, value, ndim: int | None = None) -> np.ndarray:
         raise ValueError(f"{name}: expected a {ndim}-D array, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: expected finite values, got {_describe_bad(arr)}")
+    return arr
+
+
+def as_float_array(name: str, value) -> np.ndarray:
+    """Return ``value`` as a float array that may hold NaN (missing values) but no inf."""
+    arr = _to_array(name, value)
+    if np.isinf(arr).any():
+        raise ValueError(f"{name}: expected finite values or NaN for missing, got {int(np.isinf(arr).sum())} inf")
     return arr
 
 
@@ -140,14 +152,26 @@ def as_vectors3(name: str, v) -> np.ndarray:
     return v
 
 
-def as_positive(name: str, value, allow_zero: bool = False) -> float:
-    """Return ``value`` as a finite float that is > 0 (or >= 0 with ``allow_zero``)."""
-    if isinstance(value, bool) or not np.isscalar(value) and np.ndim(value) != 0:
-        raise TypeError(f"{name}: expected a real number, got {type(value).__name__}")
+def _real(name: str, value) -> float:
+    if isinstance(value, (bool, str, bytes)) or not np.isscalar(value) and np.ndim(value) != 0:
+        raise TypeError(f"{name}: expected a real number, got {value!r}")
     try:
-        x = float(value)
+        return float(value)
     except (TypeError, ValueError) as err:
         raise TypeError(f"{name}: expected a real number, got {value!r}") from err
+
+
+def as_finite_number(name: str, value) -> float:
+    """Return ``value`` as a finite float (an angle, an offset: any sign)."""
+    x = _real(name, value)
+    if not np.isfinite(x):
+        raise ValueError(f"{name}: expected a finite number, got {value!r}")
+    return x
+
+
+def as_positive(name: str, value, allow_zero: bool = False) -> float:
+    """Return ``value`` as a finite float that is > 0 (or >= 0 with ``allow_zero``)."""
+    x = _real(name, value)
     ok = x >= 0 if allow_zero else x > 0
     if not np.isfinite(x) or not ok:
         bound = ">= 0" if allow_zero else "> 0"
@@ -170,8 +194,11 @@ def as_times(name: str, value) -> np.ndarray:
     t = as_finite_array(name, value, ndim=1)
     if t.size == 0:
         raise ValueError(f"{name}: expected at least one time, got an empty array")
-    if np.any(np.diff(t) <= 0):
-        raise ValueError(f"{name}: expected strictly increasing times (every dt > 0)")
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        k = int(np.argmax(steps <= 0))
+        raise ValueError(f"{name}: expected strictly increasing times (every dt > 0), got t[{k + 1}] = {t[k + 1]:.9g} "
+                         f"after t[{k}] = {t[k]:.9g}")
     return t
 
 

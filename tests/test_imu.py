@@ -21,7 +21,7 @@ def test_bad_logs_are_refused_with_the_field_named():
     t = np.arange(3.0)
     with pytest.raises(ValueError, match=r"ImuLog.gyro: expected shape \(3, 3\), got \(3, 2\)"):
         ImuLog(t, np.zeros((3, 2)), np.zeros((3, 3)))
-    with pytest.raises(ValueError, match="ImuLog.accel: expected finite values or NaN for missing, got inf"):
+    with pytest.raises(ValueError, match=r"ImuLog.accel: expected finite values or NaN for missing, got \d+ inf"):
         ImuLog(t, np.zeros((3, 3)), np.full((3, 3), np.inf))
     with pytest.raises(ValueError, match="ImuLog.t: expected strictly increasing times"):
         ImuLog([0.0, 0.0, 1.0], np.zeros((3, 3)), np.zeros((3, 3)))

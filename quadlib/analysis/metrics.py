@@ -17,9 +17,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import chi2
 
-from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
+from quadlib.geometry.quaternion import (
+    as_unit_quaternions,
+    quat_conjugate,
+    quat_multiply,
+    quat_to_rotvec,
+)
 from quadlib.geometry.rotations import wrap_angle
-from quadlib.validation import as_finite_array, as_probability, as_quaternions
+from quadlib.validation import as_finite_array, as_float_array, as_probability, as_quaternions
 
 __all__ = ["angle_error", "angle_rmse", "attitude_error", "attitude_rmse", "broad_errors", "chi2_interval",
            "fraction_inside", "nees", "nis", "rmse", "settling_time"]
@@ -35,17 +40,15 @@ def rmse(error, axis: int | None = 0) -> np.ndarray:
     axis : int or None
         Axis to average over (default 0: over time, one value per state).
     """
-    err = np.asarray(error, dtype=float)
+    err = as_float_array("error", error)
     if err.size == 0:
         raise ValueError("error: expected a non-empty array, got size 0")
-    if np.any(np.isinf(err)):
-        raise ValueError("error: expected finite values (NaN are skipped), got inf")
     return np.sqrt(np.nanmean(err**2, axis=axis))
 
 
 def angle_error(estimate, truth) -> np.ndarray:
     """``estimate − truth`` wrapped to (−π, π] [rad]: the error of an angle (yaw, Euler angles)."""
-    est, tru = np.asarray(estimate, dtype=float), np.asarray(truth, dtype=float)
+    est, tru = as_float_array("estimate", estimate), as_float_array("truth", truth)
     if est.shape != tru.shape:
         raise ValueError(f"estimate, truth: expected the same shape, got {est.shape} and {tru.shape}")
     return wrap_angle(est - tru)
@@ -58,8 +61,8 @@ def angle_rmse(estimate, truth, axis: int | None = 0) -> np.ndarray:
 
 def attitude_error(q_estimate, q_truth) -> np.ndarray:
     """Angle of the rotation between estimated and true attitudes, ``|rotvec(q_true⁻¹ ⊗ q_est)|``
-    [rad] in [0, π], ``(N,)`` for ``(N, 4)`` unit quaternions (either sign)."""
-    q_e, q_t = as_quaternions("q_estimate", q_estimate), as_quaternions("q_truth", q_truth)
+    [rad] in [0, π], ``(N,)`` for ``(N, 4)`` unit quaternions (either sign; non-unit ones are refused)."""
+    q_e, q_t = as_unit_quaternions("q_estimate", q_estimate), as_unit_quaternions("q_truth", q_truth)
     if q_e.shape != q_t.shape:
         raise ValueError(f"q_estimate, q_truth: expected the same shape, got {q_e.shape} and {q_t.shape}")
     return np.linalg.norm(quat_to_rotvec(quat_multiply(quat_conjugate(q_t), q_e)), axis=-1)

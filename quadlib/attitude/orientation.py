@@ -31,6 +31,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
+from quadlib.validation import as_finite_number, as_positive
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor"]
 
@@ -73,6 +74,7 @@ class OrientationParams:
 
 def gravity_sensor(sigma_m_s2: float) -> Sensor:
     """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]."""
+    as_positive("sigma_m_s2", sigma_m_s2)
     up = -GRAVITY_N
     return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: body_vector(x[:4], up),
                   H=lambda x: np.hstack([vector_jacobian(x[:4], up), np.zeros((3, 3))]), R=sigma_m_s2**2 * np.eye(3))
@@ -96,10 +98,11 @@ def _field_heading_jacobian(x, m_b):
     return J
 
 
-def heading_sensor(sigma_rad: float, declination_rad: float = 0.0) -> Sensor:
+def heading_sensor(sigma_rad: float) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
-    attitude should point ``declination_rad`` east of north. The measurement is that declination."""
-
+    attitude, its horizontal angle east of north [rad]. The measurement is the local declination
+    (where the field should point)."""
+    as_positive("sigma_rad", sigma_rad)
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
                   h=_field_heading, H=_field_heading_jacobian, R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
@@ -113,6 +116,9 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    if not isinstance(params, OrientationParams):
+        raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
+    declination_rad = as_finite_number("declination_rad", declination_rad)
     checks = params.checks
     good_a = plausible_accel(log.accel, checks)
     field_n = None
@@ -134,6 +140,6 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
     measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2), log.t, accel)]
     if has_mag:
         context = np.where(good_m[:, None], log.mag, np.nan)
-        measurements.append(Measurements(heading_sensor(params.heading_sigma_rad, declination_rad), log.t,
+        measurements.append(Measurements(heading_sensor(params.heading_sigma_rad), log.t,
                                          np.full(len(log), declination_rad), context=context))
     return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability)

@@ -11,7 +11,7 @@ import numpy as np
 
 from quadlib.geometry.quaternion import integrate_body_rate
 from quadlib.sim.imu import BodyMotion, specific_force_at_rest
-from quadlib.validation import as_positive, as_rng
+from quadlib.validation import as_finite_number, as_positive, as_rng
 
 __all__ = ["random_rotation", "with_spin"]
 
@@ -20,6 +20,8 @@ def random_rotation(duration_s: float, rate_hz: float, rng, rms_rate_rad_s: floa
                     n_terms: int = 12) -> BodyMotion:
     """A tumble of ``duration_s`` sampled at ``rate_hz`` (Kesten's IMU: 250 Hz), starting level and north."""
     rng = as_rng(rng)
+    if isinstance(n_terms, bool) or not isinstance(n_terms, (int, np.integer)) or n_terms < 1:
+        raise ValueError(f"n_terms: expected an int >= 1, got {n_terms!r}")
     dt = 1.0 / as_positive("rate_hz", rate_hz)
     t = np.arange(int(round(as_positive("duration_s", duration_s) / dt)) + 1) * dt
     axes = rng.normal(size=(n_terms, 3))
@@ -37,11 +39,12 @@ def with_spin(motion: BodyMotion, start_s: float, duration_s: float, rate_rad_s:
     if not isinstance(motion, BodyMotion):
         raise TypeError(f"motion: expected a BodyMotion, got {type(motion).__name__}")
     omega = motion.omega_b.copy()
+    start_s = as_finite_number("start_s", start_s)
     window = (motion.t >= start_s) & (motion.t < start_s + as_positive("duration_s", duration_s))
     if not window.any():
         raise ValueError(f"start_s: expected a time within the motion [{motion.t[0]}, {motion.t[-1]}] s, "
                          f"got {start_s}")
-    omega[window, 0] += float(rate_rad_s)
+    omega[window, 0] += as_finite_number("rate_rad_s", rate_rad_s)
     return _at_rest(motion.t, omega, motion.q_nb[0], motion.t[1] - motion.t[0])
 
 

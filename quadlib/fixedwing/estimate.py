@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_positive
+from quadlib.validation import as_finite_number, as_positive
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -168,9 +168,15 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     FilterRun
         ``x`` is ``[q_nb, b]`` (N, 7) for every filter.
     """
+    if not isinstance(log, ImuLog):
+        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    if not isinstance(noise, FixedWingNoise):
+        raise TypeError(f"noise: expected a FixedWingNoise, got {type(noise).__name__}")
+    if not callable(filter_factory):
+        raise TypeError(f"filter_factory: expected a callable such as salmony_ekf, got {filter_factory!r}")
+    incl = noise.inclination_rad if inclination_rad is None else as_finite_number("inclination_rad", inclination_rad)
     dt = float(log.t[1] - log.t[0])
     filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)
-    incl = noise.inclination_rad if inclination_rad is None else float(inclination_rad)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
     return run_filter(filt, log.t, log.gyro, fixedwing_measurements(log, noise.accel_sigma_m_s2, mag,
                                                                     tuning.unmodelled_m_s2, prefilter_hz),

@@ -48,7 +48,7 @@ from quadlib.geometry.quaternion import (
 )
 from quadlib.imu import ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_positive
+from quadlib.validation import as_float_array, as_positive
 
 __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",
            "fixedwing_accel_sensor", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
@@ -114,7 +114,7 @@ def lowpass2(x, cutoff_hz: float, dt: float) -> np.ndarray:
     unchanged. A missing sample (a row with NaN) gives a NaN output and leaves the filter's state
     as it was: a gap neither feeds zeros into the filter nor restarts it.
     """
-    x = np.asarray(x, dtype=float)
+    x = as_float_array("x", x)
     wt = 2 * as_positive("cutoff_hz", cutoff_hz) * np.pi * as_positive("dt", dt)
     den = 1 + 2 * wt + wt**2
     y = np.full_like(x, np.nan)

@@ -19,7 +19,7 @@ from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, qua
 from quadlib.imu import ImuLog
 from quadlib.sim.imu import BodyMotion, imu_samples
 from quadlib.sim.trajectories import min_jerk
-from quadlib.validation import as_positive, as_rng
+from quadlib.validation import as_finite_number, as_positive, as_rng
 
 __all__ = ["FixedWingFlight", "aileron_roll", "fixedwing_flight", "fixedwing_samples"]
 
@@ -68,10 +68,14 @@ def _flight(t, q, airspeed) -> FixedWingFlight:
 def aileron_roll(flight: FixedWingFlight, start_s: float, rate_rad_s: float, turns: int = 1) -> FixedWingFlight:
     """``flight`` with ``turns`` full rolls about body x at a constant ``rate_rad_s`` added from
     ``start_s`` on: the attitude becomes ``q ⊗ exp(φ(t) e_x)``, the path and airspeed stay."""
-    rate = as_positive("rate_rad_s", rate_rad_s)
+    if not isinstance(flight, FixedWingFlight):
+        raise TypeError(f"flight: expected a FixedWingFlight, got {type(flight).__name__}")
+    rate, start_s = as_positive("rate_rad_s", rate_rad_s), as_finite_number("start_s", start_s)
+    if isinstance(turns, bool) or not isinstance(turns, (int, np.integer)) or turns < 1:
+        raise ValueError(f"turns: expected an int >= 1, got {turns!r}")
     if not flight.t[0] <= start_s < flight.t[-1]:
         raise ValueError(f"start_s: expected a time within the flight [{flight.t[0]}, {flight.t[-1]}) s, got {start_s}")
-    angle = np.clip((flight.t - start_s) * rate, 0.0, 2 * np.pi * int(turns))
+    angle = np.clip((flight.t - start_s) * rate, 0.0, 2 * np.pi * turns)
     roll = np.column_stack([np.cos(angle / 2), np.sin(angle / 2), np.zeros((angle.size, 2))])
     return _flight(flight.t, quat_multiply(flight.q_nb, roll), flight.airspeed)
 

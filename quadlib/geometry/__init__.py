@@ -2,6 +2,7 @@
 
 from .quaternion import (
     UNIT_TOLERANCE,
+    as_unit_quaternions,
     body_rates_between,
     body_vector,
     integrate_body_rate,
@@ -42,6 +43,7 @@ __all__ = [
     "FREE_FALL_M_S2",
     "UNIT_TOLERANCE",
     "accel_tilt",
+    "as_unit_quaternions",
     "attitude_from_accel_mag",
     "average_geodesic",
     "average_quaternion",

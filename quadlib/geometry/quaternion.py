@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array, as_quaternions, as_vectors3
+from quadlib.validation import as_finite_array, as_positive, as_quaternions, as_vector, as_vectors3
 
-__all__ = ["UNIT_TOLERANCE", "body_rates_between", "body_vector", "integrate_body_rate", "integrate_body_rate_linear",
-           "quat_canonical", "quat_conjugate", "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply",
-           "quat_normalize", "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec", "vector_jacobian"]
+__all__ = ["UNIT_TOLERANCE", "as_unit_quaternions", "body_rates_between", "body_vector",
+           "integrate_body_rate", "integrate_body_rate_linear", "quat_canonical", "quat_conjugate",
+           "quat_from_dcm", "quat_from_euler", "quat_from_rotvec", "quat_multiply", "quat_normalize",
+           "quat_rotate", "quat_to_dcm", "quat_to_euler", "quat_to_rotvec", "vector_jacobian"]
 
 
 def quat_multiply(p, q) -> np.ndarray:
@@ -55,7 +56,9 @@ def quat_normalize(q) -> np.ndarray:
     return q / norm
 
 
-def _unit(name: str, q, tolerance: float | None) -> np.ndarray:
+def as_unit_quaternions(name: str, q, tolerance: float | None = UNIT_TOLERANCE) -> np.ndarray:
+    """``q`` as a finite ``(..., 4)`` array, refused (naming ``name``) if any is further than
+    ``tolerance`` from unit norm (None: any norm)."""
     q = as_quaternions(name, q)
     if tolerance is not None:
         off = np.abs(np.sum(q * q, axis=-1) - 1.0)
@@ -63,6 +66,14 @@ def _unit(name: str, q, tolerance: float | None) -> np.ndarray:
             norm = float(np.sqrt(np.sum(q * q, axis=-1)).reshape(-1)[np.argmax(off.reshape(-1))])
             raise ValueError(f"{name}: expected unit quaternions (|norm − 1| ≤ {tolerance:g}), got norm {norm:.6g};"
                              " normalise first (quat_normalize)")
+    return q
+
+
+def _nonzero(name: str, q) -> np.ndarray:
+    """``q`` as quaternions, none of them zero."""
+    q = as_quaternions(name, q)
+    if not np.all(np.any(q != 0.0, axis=-1)):
+        raise ValueError(f"{name}: expected non-zero quaternions, got one that is all zeros")
     return q
 
 
@@ -85,8 +96,9 @@ def quat_from_rotvec(v) -> np.ndarray:
 
 
 def quat_to_rotvec(q) -> np.ndarray:
-    """Rotation vector (axis × angle, angle in [0, π]) of unit ``q``; inverse of :func:`quat_from_rotvec`."""
-    q = quat_canonical(q)
+    """Rotation vector (axis × angle, angle in [0, π]) of unit ``q``; inverse of :func:`quat_from_rotvec`.
+    Refuses quaternions further than ``UNIT_TOLERANCE`` from unit norm."""
+    q = quat_canonical(as_unit_quaternions("q", q, UNIT_TOLERANCE))
     v = q[..., 1:]
     s = np.linalg.norm(v, axis=-1, keepdims=True)
     angle = 2.0 * np.arctan2(s, q[..., :1])
@@ -102,7 +114,7 @@ def quat_to_dcm(q, unit_tolerance: float | None = UNIT_TOLERANCE) -> np.ndarray:
     return a matrix that is not a rotation — the identity for ``q = 0``). ``None`` evaluates the
     quadratic polynomial anywhere, for exact derivatives by central differences.
     """
-    q = _unit("q", q, unit_tolerance)
+    q = as_unit_quaternions("q", q, unit_tolerance)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     R = np.empty(q.shape[:-1] + (3, 3))
     R[..., 0, 0], R[..., 0, 1], R[..., 0, 2] = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
@@ -148,7 +160,7 @@ def quat_rotate(q, v) -> np.ndarray:
 
 def quat_from_euler(roll, pitch, yaw) -> np.ndarray:
     """``q_nb`` of Z-Y-X Euler angles [rad]: yaw ψ, then pitch θ, then roll φ."""
-    hr, hp, hy = (0.5 * np.asarray(a, dtype=float) for a in (roll, pitch, yaw))
+    hr, hp, hy = (0.5 * as_finite_array(name, a) for name, a in (("roll", roll), ("pitch", pitch), ("yaw", yaw)))
     cr, sr, cp, sp, cy, sy = np.cos(hr), np.sin(hr), np.cos(hp), np.sin(hp), np.cos(hy), np.sin(hy)
     return np.stack([cr * cp * cy + sr * sp * sy,
                      sr * cp * cy - cr * sp * sy,
@@ -162,7 +174,7 @@ def quat_to_euler(q) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     At pitch ±90° (gimbal lock) roll and yaw are not separable; the yaw returned is then the
     combination that reproduces the rotation with roll = 0.
     """
-    w, x, y, z = np.moveaxis(_unit("q", q, UNIT_TOLERANCE), -1, 0)
+    w, x, y, z = np.moveaxis(as_unit_quaternions("q", q, UNIT_TOLERANCE), -1, 0)
     sin_pitch = np.clip(2.0 * (w * y - x * z), -1.0, 1.0)
     roll = np.arctan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
     yaw = np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
@@ -179,8 +191,8 @@ def integrate_body_rate_linear(q, omega_b, dt: float) -> np.ndarray:
     Not a unit quaternion: its norm grows by ``√(1 + |ω Δt|²/4)`` per step, so filters using it
     renormalise.
     """
-    omega = as_vectors3("omega_b", omega_b) * (0.5 * float(dt))
-    return quat_multiply(q, np.concatenate([np.ones(omega.shape[:-1] + (1,)), omega], axis=-1))
+    omega = as_vectors3("omega_b", omega_b) * (0.5 * as_positive("dt", dt))
+    return quat_multiply(_nonzero("q", q), np.concatenate([np.ones(omega.shape[:-1] + (1,)), omega], axis=-1))
 
 
 def integrate_body_rate(q, omega_b, dt: float) -> np.ndarray:
@@ -191,7 +203,7 @@ def integrate_body_rate(q, omega_b, dt: float) -> np.ndarray:
     Kesten eq. (2.7). Body rates multiply on the *right* of ``q_nb``. Differs from the source: Tellex eq. (43)
     multiplies on the left, as in Diebel's convention where the quaternion maps global to body.
     """
-    return quat_multiply(q, quat_from_rotvec(as_vectors3("omega_b", omega_b) * float(dt)))
+    return quat_multiply(_nonzero("q", q), quat_from_rotvec(as_vectors3("omega_b", omega_b) * as_positive("dt", dt)))
 
 
 def body_rates_between(q_nb, dt: float) -> np.ndarray:
@@ -199,7 +211,7 @@ def body_rates_between(q_nb, dt: float) -> np.ndarray:
     ``dt`` [s] at a constant rate (the inverse of :func:`integrate_body_rate`); the last row repeats
     the one before it."""
     q = as_quaternions("q_nb", q_nb)
-    omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / float(dt)
+    omega = quat_to_rotvec(quat_multiply(quat_conjugate(q[:-1]), q[1:])) / as_positive("dt", dt)
     return np.vstack([omega, omega[-1:]])
 
 
@@ -215,7 +227,14 @@ def body_vector(q, v_n) -> np.ndarray:
     """``R(q)ᵀ v_n``, ``(3,)``: an earth-frame vector seen in the body frame of one quaternion ``q``,
     written as a homogeneous quadratic in ``q`` (its length scales with ``|q|²``; for a unit ``q``
     it is the rotated vector). The measurement model of a gravity or field sensor."""
-    return _dcm_homogeneous(q).T @ np.asarray(v_n, dtype=float)
+    return _dcm_homogeneous(_one_quaternion("q", q)).T @ as_vector("v_n", v_n, 3)
+
+
+def _one_quaternion(name: str, q) -> np.ndarray:
+    q = as_vector(name, q, 4)
+    if not q.any():
+        raise ValueError(f"{name}: expected a non-zero quaternion, got {q.tolist()}")
+    return q
 
 
 def vector_jacobian(q, v_n) -> np.ndarray:
@@ -224,5 +243,5 @@ def vector_jacobian(q, v_n) -> np.ndarray:
     ``R(q)ᵀ v`` is a homogeneous quadratic in ``q``, so a central difference with unit steps is
     exact: column ``j`` is ``(f(q + e_j) − f(q − e_j)) / 2``.
     """
-    q, v = np.asarray(q, dtype=float), np.asarray(v_n, dtype=float)
-    return np.column_stack([body_vector(q + e, v) - body_vector(q - e, v) for e in np.eye(4)]) / 2.0
+    q, v = _one_quaternion("q", q), as_vector("v_n", v_n, 3)
+    return np.column_stack([_dcm_homogeneous(q + e).T @ v - _dcm_homogeneous(q - e).T @ v for e in np.eye(4)]) / 2.0

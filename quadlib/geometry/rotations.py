@@ -10,25 +10,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array
+from quadlib.validation import as_finite_array, as_finite_number, as_float_array
 
 __all__ = ["FREE_FALL_M_S2", "accel_tilt", "dcm_dyaw", "dcm_to_euler", "euler_rate_matrix", "euler_to_dcm",
            "mag_heading", "wrap_angle"]
 
 
 def _angles(*named):
-    out = []
-    for name, value in named:
-        a = np.asarray(value, dtype=float)
-        if not np.isfinite(a).all():
-            as_finite_array(name, a)  # raises, naming the argument
-        out.append(a)
-    return out
+    return [as_finite_array(name, value) for name, value in named]
 
 
 def wrap_angle(a) -> np.ndarray:
-    """Wrap angles [rad] to (−π, π]."""
-    a = np.asarray(a, dtype=float)
+    """Wrap angles [rad] to (−π, π]; NaN (a missing angle) stays NaN."""
+    a = as_float_array("a", a)
     return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
 
 
@@ -110,11 +104,9 @@ def accel_tilt(f_b) -> tuple[np.ndarray, np.ndarray]:
     Differs from the source: the blog's roll ``atan(A_y / √(A_x² + A_z²))`` is ``asin(A_y/|A|)``,
     which is the roll only at zero pitch, and has the opposite sign with this accelerometer sign.
     """
-    f_b = np.asarray(f_b, dtype=float)
+    f_b = as_float_array("f_b", f_b)
     if f_b.ndim == 0 or f_b.shape[-1] != 3:
         raise ValueError(f"f_b: expected shape (..., 3), got {f_b.shape}")
-    if np.isinf(f_b).any():
-        raise ValueError("f_b: expected finite values (NaN for missing samples), got inf")
     fx, fy, fz = np.moveaxis(f_b, -1, 0)
     with np.errstate(invalid="ignore"):
         no_tilt = ~(np.sqrt(fx**2 + fy**2 + fz**2) >= FREE_FALL_M_S2)  # free fall, or a missing sample
@@ -138,4 +130,4 @@ def mag_heading(m_b, roll, pitch, declination_rad: float = 0.0) -> np.ndarray:
     cr, sr, cp, sp = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch)
     level_x = cp * mx + sp * (sr * my + cr * mz)
     level_y = cr * my - sr * mz
-    return wrap_angle(np.arctan2(-level_y, level_x) + float(declination_rad))
+    return wrap_angle(np.arctan2(-level_y, level_x) + as_finite_number("declination_rad", declination_rad))

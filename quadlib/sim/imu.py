@@ -19,7 +19,7 @@ import numpy as np
 from quadlib.constants import GRAVITY_N
 from quadlib.geometry.quaternion import quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
-from quadlib.validation import as_rng
+from quadlib.validation import as_rng, as_vector
 
 __all__ = ["BodyMotion", "imu_samples", "specific_force_at_rest"]
 
@@ -63,6 +63,8 @@ def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, 
     -------
     ImuLog
     """
+    if not isinstance(motion, BodyMotion):
+        raise TypeError(f"motion: expected a BodyMotion (a vehicle's flight is one), got {type(motion).__name__}")
     if not isinstance(noise, ImuNoise):
         raise TypeError(f"noise: expected an ImuNoise, got {type(noise).__name__}")
     rng = as_rng(rng)
@@ -83,7 +85,7 @@ def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, 
     accel[np.arange(n) % accel_every != 0] = np.nan
     mag = None
     if field_n is not None:
-        mag = np.einsum("nji,j->ni", quat_to_dcm(motion.q_nb), np.asarray(field_n, dtype=float))
+        mag = np.einsum("nji,j->ni", quat_to_dcm(motion.q_nb), as_vector("field_n", field_n, 3))
         mag = mag + rng.standard_normal((n, 3)) * noise.mag_sigma
         mag[np.arange(n) % mag_every != 0] = np.nan
     return ImuLog(t, gyro, accel, mag)

@@ -62,5 +62,5 @@ def piecewise_constant(t, breakpoints, values) -> np.ndarray:
 def min_jerk(s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Minimum-jerk blend on ``s`` ∈ [0, 1] and its first two derivatives with respect to ``s``
     (all zero at both ends): ``10 s³ − 15 s⁴ + 6 s⁵``. Values outside [0, 1] are clipped."""
-    s = np.clip(np.asarray(s, dtype=float), 0.0, 1.0)
+    s = np.clip(as_finite_array("s", s), 0.0, 1.0)
     return 10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4, 60 * s - 180 * s**2 + 120 * s**3
