@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.validation import as_float_array, as_times
+from quadlib.validation import as_float_array, as_times, check_fields
 
 __all__ = ["ImuLog", "ImuNoise", "gyro_saturation_noise", "saturated_step_variance"]
 
@@ -53,11 +53,12 @@ class ImuNoise:
     mag_sigma: float = 0.01
     gyro_range_rad_s: float | None = None
 
+    FIELDS = {"gyro_sigma_rad_s": "nonnegative", "gyro_bias_rad_s": "vector3",
+              "gyro_bias_walk_rad_s_sqrt_s": "nonnegative", "accel_sigma_m_s2": "nonnegative or 3",
+              "mag_sigma": "nonnegative", "gyro_range_rad_s": "optional positive"}  # a subclass extends it
+
     def __post_init__(self):
-        r = self.gyro_range_rad_s
-        if r is not None and not (isinstance(r, (int, float, np.floating)) and np.isfinite(r) and r > 0):
-            raise ValueError(f"{type(self).__name__}.gyro_range_rad_s: expected a positive number [rad/s] or None, "
-                             f"got {r!r}")
+        check_fields(self, self.FIELDS)
 
 
 SATURATED = 0.999  # a sample within 0.1 % of the full scale counts as clipped

@@ -24,6 +24,7 @@ __all__ = [
     "as_times",
     "as_vector",
     "as_vectors3",
+    "check_fields",
 ]
 
 
@@ -209,3 +210,49 @@ def as_rng(rng) -> np.random.Generator:
             f"rng: expected a numpy.random.Generator (np.random.default_rng(seed)), got {type(rng).__name__}"
         )
     return rng
+
+
+def _field_ok(kind: str, value) -> bool:
+    if kind.startswith("optional "):
+        return value is None or _field_ok(kind[len("optional "):], value)
+    if kind == "bool":
+        return isinstance(value, bool)
+    if kind == "count":
+        return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 1
+    if kind.endswith("or 3"):  # one value or one per axis
+        values = np.ravel(value) if np.ndim(value) == 1 and np.size(value) == 3 else [value]
+        return all(_field_ok(kind[: -len(" or 3")], v) for v in values)
+    if kind == "positives":
+        return (np.ndim(value) == 1 and np.size(value) >= 1 and not isinstance(value, str)
+                and all(_field_ok("positive", v) for v in np.ravel(value)))
+    if kind == "vector3":
+        return (np.ndim(value) == 1 and np.size(value) == 3 and not isinstance(value, str)
+                and all(_field_ok("finite", v) for v in np.ravel(value)))
+    if isinstance(value, (bool, str, bytes)) or np.ndim(value) != 0:
+        return False
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return False
+    return {"finite": np.isfinite(x), "positive": np.isfinite(x) and x > 0,
+            "nonnegative": np.isfinite(x) and x >= 0, "probability": 0 < x < 1}[kind]
+
+
+_EXPECTED = {"finite": "a finite number", "positive": "a finite number > 0", "nonnegative": "a finite number >= 0",
+             "probability": "a number in (0, 1)", "count": "an int >= 1", "bool": "True or False",
+             "vector3": "3 finite numbers", "positives": "a sequence of finite numbers > 0"}
+
+
+def check_fields(obj, kinds: dict[str, str]) -> None:
+    """Check a parameter dataclass's fields: ``kinds`` maps a field to ``"finite"``, ``"positive"``,
+    ``"nonnegative"``, ``"probability"``, ``"count"``, ``"bool"``, ``"vector3"`` or ``"positives"``, optionally
+    prefixed ``"optional "`` (None allowed) and suffixed ``" or 3"`` (one value or one per axis).
+    Raises naming ``Class.field``, the expectation and the value."""
+    for name, kind in kinds.items():
+        value = getattr(obj, name)
+        if not _field_ok(kind, value):
+            base = kind.removeprefix("optional ").removesuffix(" or 3")
+            expected = _EXPECTED[base] + (" (or 3 of them, one per axis)" if kind.endswith(" or 3") else "")
+            expected += " or None" if kind.startswith("optional ") else ""
+            error = TypeError if isinstance(value, (str, bytes)) or value is None else ValueError
+            raise error(f"{type(obj).__name__}.{name}: expected {expected}, got {value!r}")

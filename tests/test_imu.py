@@ -44,7 +44,7 @@ def test_a_saturated_gyro_sample_adds_the_variance_of_one_more_full_scale_step()
     noise = gyro_saturation_noise(35.0, [1.0, 1.0, 1.0, 0.0])
     np.testing.assert_allclose(noise(np.array([35.0, 0.0, 0.0]), 0.01), np.diag([0.35**2] * 3 + [0.0]))
     assert noise(np.zeros(3), 0.01) is None and gyro_saturation_noise(None, [1.0]) is None
-    with pytest.raises(ValueError, match=r"ImuNoise.gyro_range_rad_s: expected a positive number \[rad/s\] or None, "
+    with pytest.raises(ValueError, match=r"ImuNoise.gyro_range_rad_s: expected a finite number > 0 or None, "
                                          r"got -1.0"):
         ImuNoise(gyro_range_rad_s=-1.0)
 

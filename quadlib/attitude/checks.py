@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.constants import G0
-from quadlib.validation import as_vectors3
+from quadlib.validation import as_vectors3, check_fields
 
 __all__ = ["SensorChecks", "plausible_accel", "plausible_mag"]
 
@@ -51,6 +51,10 @@ class SensorChecks:
     mag_norm_tolerance: float | None = 0.2
     mag_dip_tolerance_rad: float | None = float(np.radians(10.0))
     mag_stuck_samples: int | None = 5
+
+    def __post_init__(self):
+        check_fields(self, {"accel_norm_tolerance_m_s2": "optional positive", "mag_norm_tolerance": "optional positive",
+                            "mag_dip_tolerance_rad": "optional positive", "mag_stuck_samples": "optional count"})
 
 
 def plausible_accel(accel, checks: SensorChecks) -> np.ndarray:

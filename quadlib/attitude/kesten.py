@@ -89,6 +89,8 @@ class AttitudeNoise(ImuNoise):
     inclination_rad: float = float(np.radians(67.0))
     thesis_process_noise: bool = False
 
+    FIELDS = ImuNoise.FIELDS | {"field_gauss": "positive", "inclination_rad": "finite", "thesis_process_noise": "bool"}
+
     @property
     def accel_n(self) -> np.ndarray:
         """The specific force at rest in NED, ``−g_n`` (up) [m/s²]."""

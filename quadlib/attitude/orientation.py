@@ -31,7 +31,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_number, as_positive
+from quadlib.validation import as_finite_number, as_positive, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor"]
 
@@ -70,6 +70,14 @@ class OrientationParams:
     gate_probability: float | None = 0.999
     checks: SensorChecks = field(default_factory=SensorChecks)
     gyro_range_rad_s: float | None = None
+
+    def __post_init__(self):
+        check_fields(self, {"gyro_sigma_rad_s": "positive", "gyro_bias_walk_rad_s_sqrt_s": "positive",
+                            "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
+                            "initial_bias_sigma_rad_s": "positive", "gate_probability": "optional probability",
+                            "gyro_range_rad_s": "optional positive"})
+        if not isinstance(self.checks, SensorChecks):
+            raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
 
 
 def gravity_sensor(sigma_m_s2: float) -> Sensor:

@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_number, as_positive
+from quadlib.validation import as_finite_number, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -70,6 +70,11 @@ class FixedWingTuning:
     unmodelled_m_s2: float = 3.0
     n_still: int = 50
     gate_probability: float | None = 0.999
+
+    def __post_init__(self):
+        check_fields(self, {"quaternion_sigma0": "positive", "attitude_sigma0_rad": "positive",
+                            "bias_sigma0_rad_s": "positive", "unmodelled_m_s2": "positive", "n_still": "count",
+                            "gate_probability": "optional probability"})
 
 
 def _process_noise(noise: FixedWingNoise) -> tuple[float, float, float | None]:

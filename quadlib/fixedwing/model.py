@@ -155,6 +155,9 @@ class FixedWingNoise(ImuNoise):
     declination_rad: float = field(default=float(np.radians(3.0)))
     inclination_rad: float = field(default=float(np.radians(65.0)))
 
+    FIELDS = ImuNoise.FIELDS | {"airspeed_sigma_m_s": "nonnegative", "declination_rad": "finite",
+                                "inclination_rad": "finite"}
+
 
 def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
                     gyro_range_rad_s: float | None = None) -> Model:

@@ -11,7 +11,7 @@ from quadlib.model import Model, Sensor
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements, Samples
-from quadlib.validation import as_vector
+from quadlib.validation import as_vector, check_fields
 
 __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf"]
 
@@ -43,6 +43,11 @@ class Quad3DTuning:
     gps_vel_sigma_m_s: tuple = (0.1, 0.1, 0.3)
     mag_yaw_sigma_rad: float = 0.1
     initial_sigma: tuple = (1.0, 1.0, 2.0, 0.1, 0.1, 0.3, 0.1)
+
+    def __post_init__(self):
+        check_fields(self, {"accel_sigma_m_s2": "positive or 3", "yaw_rate_sigma_rad_s": "positive",
+                            "gps_pos_sigma_m": "positive or 3", "gps_vel_sigma_m_s": "positive or 3",
+                            "mag_yaw_sigma_rad": "positive", "initial_sigma": "positives"})
 
     def model(self) -> Model:
         """The transition model (eq. 49, NED gravity) with this process noise."""

@@ -149,6 +149,11 @@ class SensorNoise3D(ImuNoise):
     baro_rate_hz: float = 25.0
     baro_sigma_m: float = 0.5
 
+    FIELDS = ImuNoise.FIELDS | {"gps_rate_hz": "positive", "gps_pos_sigma_m": "positive or 3",
+                                "gps_vel_sigma_m_s": "positive or 3", "mag_rate_hz": "positive",
+                                "mag_yaw_sigma_rad": "positive", "field_gauss": "positive", "inclination_rad": "finite",
+                                "baro_rate_hz": "positive", "baro_sigma_m": "positive"}
+
 
 def _every(flight: Flight3D, rate_hz: float) -> np.ndarray:
     step = int(round(1.0 / (as_positive("rate_hz", rate_hz) * flight.dt)))
