@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.validation import as_float_array, as_times, check_fields
+from quadlib.validation import as_float_array, as_positive, as_times, check_fields
 
 __all__ = ["ImuLog", "ImuNoise", "gyro_saturation_noise", "saturated_step_variance"]
 
@@ -84,6 +84,7 @@ def gyro_saturation_noise(gyro_range_rad_s: float | None, scale):
     component, 0 for states the gyro does not move). None without a range."""
     if gyro_range_rad_s is None:
         return None
+    gyro_range_rad_s = as_positive("gyro_range_rad_s", gyro_range_rad_s)
     diagonal = np.diag(np.asarray(scale, dtype=float))
 
     def input_noise(u, dt):

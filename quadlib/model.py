@@ -240,6 +240,9 @@ class Sensor:
     reset_after_s: float | None = None
 
     def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise (ValueError if isinstance(self.name, str) else TypeError)(
+                f"Sensor.name: expected a non-empty str, got {self.name!r}")
         names = _check_names(f"Sensor({self.name!r})", "measurement_names", self.measurement_names)
         object.__setattr__(self, "measurement_names", names)
         if not names:
@@ -262,7 +265,7 @@ class Sensor:
                                as_positive(f"Sensor({self.name!r}).reset_after_s", self.reset_after_s))
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
-                raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable")
+                raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")
 
     @property
     def dim_z(self) -> int:

@@ -15,6 +15,7 @@ __all__ = [
     "as_covariance",
     "as_finite_array",
     "as_finite_number",
+    "as_instance",
     "as_float_array",
     "as_matrix",
     "as_positive",
@@ -201,6 +202,13 @@ def as_times(name: str, value) -> np.ndarray:
         raise ValueError(f"{name}: expected strictly increasing times (every dt > 0), got t[{k + 1}] = {t[k + 1]:.9g} "
                          f"after t[{k}] = {t[k]:.9g}")
     return t
+
+
+def as_instance(name: str, value, cls: type):
+    """Return ``value`` if it is a ``cls``, else raise ``TypeError`` naming ``name``."""
+    if not isinstance(value, cls):
+        raise TypeError(f"{name}: expected a {cls.__name__}, got {type(value).__name__} {value!r:.60}")
+    return value
 
 
 def as_rng(rng) -> np.random.Generator:

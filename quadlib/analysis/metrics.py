@@ -24,7 +24,15 @@ from quadlib.geometry.quaternion import (
     quat_to_rotvec,
 )
 from quadlib.geometry.rotations import wrap_angle
-from quadlib.validation import as_finite_array, as_float_array, as_probability, as_quaternions
+from quadlib.validation import (
+    as_finite_array,
+    as_finite_number,
+    as_float_array,
+    as_positive,
+    as_probability,
+    as_quaternions,
+    as_times,
+)
 
 __all__ = ["angle_error", "angle_rmse", "attitude_error", "attitude_rmse", "broad_errors", "chi2_interval",
            "fraction_inside", "nees", "nis", "rmse", "settling_time"]
@@ -129,6 +137,11 @@ def _quadratic_forms(name_e: str, e, name_P: str, P) -> np.ndarray:
         P = np.broadcast_to(P, (N, n, n))
     if P.shape != (N, n, n):
         raise ValueError(f"{name_P}: expected shape ({N}, {n}, {n}) to match {name_e}, got {P.shape}")
+    smallest = np.linalg.eigvalsh(0.5 * (P + np.swapaxes(P, -1, -2))).min(axis=-1)
+    if np.any(smallest <= 0):
+        k = int(np.argmax(smallest <= 0))
+        raise ValueError(f"{name_P}: expected positive definite matrices, got smallest eigenvalue {smallest[k]:.3g} "
+                         f"at index {k}")
     return np.einsum("ki,ki->k", e, np.linalg.solve(P, e[..., None])[..., 0])
 
 
@@ -157,9 +170,9 @@ def nis(innovation, S) -> np.ndarray:
     innovation : (K, k) array_like
     S : (K, k, k) array_like
     """
-    y = np.asarray(innovation, dtype=float)
+    y = as_float_array("innovation", innovation)
     y = y[:, None] if y.ndim == 1 else y
-    S = np.asarray(S, dtype=float)
+    S = as_float_array("S", S)
     out = np.full(y.shape[0], np.nan)
     ok = ~np.isnan(y).any(axis=1)
     if S.ndim == 1:
@@ -188,9 +201,9 @@ def chi2_interval(dof: int, n_runs: int = 1, probability: float = 0.95) -> tuple
     (low, high) : tuple of float
         Bounds for the *average*: ``χ²⁻¹((1∓p)/2, M·dof) / M``.
     """
-    if not isinstance(dof, (int, np.integer)) or dof < 1:
+    if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or dof < 1:
         raise ValueError(f"dof: expected a positive integer, got {dof!r}")
-    if not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
+    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
         raise ValueError(f"n_runs: expected a positive integer, got {n_runs!r}")
     p = as_probability("probability", probability)
     total = dof * n_runs
@@ -201,11 +214,14 @@ def chi2_interval(dof: int, n_runs: int = 1, probability: float = 0.95) -> tuple
 
 def fraction_inside(values, bounds: tuple[float, float]) -> float:
     """Share of the finite ``values`` that lie within ``bounds`` (inclusive)."""
-    v = np.asarray(values, dtype=float)
+    v = as_float_array("values", values)
     v = v[np.isfinite(v)]
     if v.size == 0:
         raise ValueError("values: expected at least one finite value, got none")
-    low, high = bounds
+    b = as_float_array("bounds", bounds)
+    if b.shape != (2,) or np.isnan(b).any():
+        raise ValueError(f"bounds: expected (low, high), got {bounds!r}")
+    low, high = b
     if not low <= high:
         raise ValueError(f"bounds: expected low <= high, got {bounds}")
     return float(np.mean((v >= low) & (v <= high)))
@@ -230,12 +246,12 @@ def settling_time(t, estimate, target: float, tolerance: float, t_start: float) 
     float
         Seconds from ``t_start``; ``inf`` if the estimate is outside the band at the last sample.
     """
-    t = as_finite_array("t", t, ndim=1)
+    t = as_times("t", t)
     x = as_finite_array("estimate", estimate, ndim=1)
     if x.shape != t.shape:
         raise ValueError(f"estimate: expected shape {t.shape} to match t, got {x.shape}")
-    if not tolerance > 0:
-        raise ValueError(f"tolerance: expected a number > 0, got {tolerance!r}")
+    tolerance, target = as_positive("tolerance", tolerance), as_finite_number("target", target)
+    t_start = as_finite_number("t_start", t_start)
     after = t >= t_start
     outside = after & (np.abs(x - target) > tolerance)
     if not after.any():

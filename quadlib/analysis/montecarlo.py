@@ -20,7 +20,7 @@ from quadlib.model import Model, Sensor
 from quadlib.replay import run_filter
 from quadlib.samples import Measurements
 from quadlib.sim.simulate import sample_sensor, simulate_model
-from quadlib.validation import as_covariance, as_rng, as_vector
+from quadlib.validation import as_covariance, as_instance, as_probability, as_rng, as_vector
 
 __all__ = ["Moments", "MonteCarloRuns", "importance_posterior", "propagate_samples", "run_monte_carlo"]
 
@@ -34,8 +34,8 @@ class Moments(NamedTuple):
 
 def _samples(mu, P, n_samples: int, rng) -> np.ndarray:
     mu = as_vector("mu", mu)
-    P = as_covariance("P", P, mu.size)
-    if not isinstance(n_samples, (int, np.integer)) or n_samples < 2:
+    P = as_covariance(f"P (for mu of size {mu.size})", P, mu.size)
+    if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) or n_samples < 2:
         raise ValueError(f"n_samples: expected an int >= 2, got {n_samples!r}")
     return as_rng(rng).multivariate_normal(mu, P, size=int(n_samples), method="eigh")
 
@@ -46,6 +46,8 @@ def propagate_samples(f, mu, P, n_samples: int, rng) -> tuple[Moments, np.ndarra
     Returns the sample mean and covariance of ``f(x)`` and the ``(n_samples, k)`` outputs.
     ``f`` must accept an ``(n_samples, n)`` array and return ``(n_samples,)`` or ``(n_samples, k)``.
     """
+    if not callable(f):
+        raise TypeError(f"f: expected a callable, got {f!r}")
     y = np.asarray(f(_samples(mu, P, n_samples, rng)), dtype=float)
     y = y.reshape(n_samples, -1)
     return Moments(y.mean(axis=0), np.atleast_2d(np.cov(y, rowvar=False))), y
@@ -57,6 +59,7 @@ def importance_posterior(sensor: Sensor, mu, P, z, n_samples: int, rng) -> Momen
     Prior draws are weighted by the Gaussian likelihood ``N(z; h(x), R)``; ``sensor.h`` must
     accept an ``(n_samples, n)`` array and return ``(n_samples, k)`` (or ``(n_samples,)`` for k = 1).
     """
+    sensor = as_instance("sensor", sensor, Sensor)
     x = _samples(mu, P, n_samples, rng)
     z = sensor.check_measurement(z)
     r = z - np.asarray(sensor.h(x), dtype=float).reshape(n_samples, sensor.dim_z)
@@ -135,13 +138,17 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
     -------
     dict of name -> MonteCarloRuns
     """
-    rng = as_rng(rng)
+    model, rng = as_instance("model", model, Model), as_rng(rng)
     x0 = model.check_state(x0, "x0")
     P0 = as_covariance("P0", P0, model.dim_x)
-    if not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
+    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
         raise ValueError(f"n_runs: expected an int >= 1, got {n_runs!r}")
-    if not filters:
-        raise ValueError("filters: expected at least one filter factory, got none")
+    if not isinstance(filters, Mapping) or not filters or not all(callable(f) for f in filters.values()):
+        raise TypeError(f"filters: expected a non-empty mapping of name -> factory(x0, P0), got {filters!r:.80}")
+    if isinstance(sensors, (str, bytes)) or not all(isinstance(s, Sensor) for s in sensors):
+        raise TypeError(f"sensors: expected a sequence of Sensor, got {sensors!r:.80}")
+    if gate_probability is not None:
+        gate_probability = as_probability("gate_probability", gate_probability)
     assumed_sensors = dict(assumed_sensors or {})
     for name, assumed in assumed_sensors.items():
         if name not in filters or len(assumed) != len(sensors):

@@ -11,6 +11,7 @@ from .altitude import (
 from .bias_model import (
     GYRO_NAMES,
     STATE_NAMES,
+    as_attitude_state,
     attitude_bias_model,
     gyro_step,
     gyro_step_jacobian,
@@ -36,6 +37,7 @@ __all__ = [
     "SensorChecks",
     "altitude_from_pressure",
     "altitude_model",
+    "as_attitude_state",
     "attitude_bias_model",
     "baro_altitude_sensor",
     "blend_weight",

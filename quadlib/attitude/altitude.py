@@ -22,10 +22,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.geometry.quaternion import quat_rotate
+from quadlib.geometry.quaternion import as_unit_quaternions, quat_rotate
 from quadlib.imu import SATURATED
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_finite_array, as_positive, as_probability
+from quadlib.validation import as_finite_array, as_positive, as_probability, as_vectors3
 
 __all__ = ["SEA_LEVEL_HPA", "altitude_from_pressure", "altitude_model", "baro_altitude_sensor",
            "pressure_from_altitude", "vertical_specific_force"]
@@ -84,7 +84,7 @@ def baro_altitude_sensor(sigma_m: float, rate_hz: float | None = 25.0) -> Sensor
 
 def vertical_specific_force(q_nb, f_b) -> np.ndarray:
     """Eq. (2.67): the up component of the specific force, ``−(R(q_nb) f_b)_z`` [m/s²], ``(N,)``."""
-    return -quat_rotate(q_nb, f_b)[..., 2]
+    return -quat_rotate(as_unit_quaternions("q_nb", q_nb), as_vectors3("f_b", f_b))[..., 2]
 
 
 def pressure_from_altitude(altitude_m) -> np.ndarray:

@@ -20,23 +20,32 @@ from quadlib.geometry.quaternion import (
 )
 from quadlib.imu import gyro_saturation_noise
 from quadlib.model import Model
-from quadlib.validation import as_positive
+from quadlib.validation import as_positive, as_vector
 
-__all__ = ["GYRO_NAMES", "STATE_NAMES", "attitude_bias_model", "gyro_step", "gyro_step_jacobian", "normalize_attitude",
-           "normalize_attitude_jacobian", "quaternion_rate_matrix"]
+__all__ = ["GYRO_NAMES", "STATE_NAMES", "as_attitude_state", "attitude_bias_model", "gyro_step",
+           "gyro_step_jacobian", "normalize_attitude", "normalize_attitude_jacobian", "quaternion_rate_matrix"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
 GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")
 
 
+def as_attitude_state(name: str, x) -> np.ndarray:
+    """``x = [q, b]`` as a finite ``(7,)`` array with a non-zero quaternion, or a named error."""
+    x = as_vector(name, x, 7)
+    if not x[:4].any():
+        raise ValueError(f"{name}: expected a non-zero quaternion in x[:4], got {x[:4].tolist()}")
+    return x
+
+
 def quaternion_rate_matrix(q) -> np.ndarray:
     """``Ξ(q)``, ``(4, 3)``: ``q̇ = ½ Ξ(q) ω`` for body rates ω (``q ⊗ [0, ω] = Ξ(q) ω``)."""
-    q0, q1, q2, q3 = q
+    q0, q1, q2, q3 = as_vector("q", q, 4)
     return np.array([[-q1, -q2, -q3], [q0, -q3, q2], [q3, q0, -q1], [-q2, q1, q0]])
 
 
 def gyro_step(x, u, dt):
     """The exact gyro step of ``x = [q, b]``: ``[q ⊗ exp((ω − b) Δt), b]``, ``(7,)``."""
+    x, u = as_attitude_state("x", x), as_vector("u", u, 3)
     return np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]])
 
 
@@ -44,6 +53,7 @@ def gyro_step_jacobian(x, u, dt):
     """``∂ gyro_step / ∂x``, ``(7, 7)``, exact. With ``φ = (ω − b) Δt``, ``θ = |φ|``, ``n = φ/θ`` and
     ``δq = exp(φ) = [cos(θ/2), sin(θ/2) n]``: ``∂/∂q`` is right multiplication by ``δq`` and
     ``∂/∂b = −Δt Ξ(q) ∂(sin(θ/2) n)/∂φ − Δt q ∂cos(θ/2)/∂φ``, where ``q ⊗ δq = δq₀ q + Ξ(q) δq_v``."""
+    x, u, dt = as_attitude_state("x", x), as_vector("u", u, 3), as_positive("dt", dt)
     q = x[:4]
     phi = (u - x[4:]) * dt
     theta = float(np.linalg.norm(phi))
@@ -63,11 +73,13 @@ def gyro_step_jacobian(x, u, dt):
 
 def normalize_attitude(x):
     """The quaternion part back to unit norm, the biases unchanged."""
+    x = as_attitude_state("x", x)
     return np.concatenate([quat_normalize(x[:4]), x[4:]])
 
 
 def normalize_attitude_jacobian(x):
     """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the biases."""
+    x = as_attitude_state("x", x)
     J = np.eye(7)
     norm = float(np.linalg.norm(x[:4]))
     q_hat = x[:4] / norm

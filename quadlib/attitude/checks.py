@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.constants import G0
-from quadlib.validation import as_vectors3, check_fields
+from quadlib.validation import as_float_array, as_instance, as_vectors3, check_fields
 
 __all__ = ["SensorChecks", "plausible_accel", "plausible_mag"]
 
@@ -57,9 +57,17 @@ class SensorChecks:
                             "mag_dip_tolerance_rad": "optional positive", "mag_stuck_samples": "optional count"})
 
 
+def _samples3(name, value):
+    v = as_float_array(name, value)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(f"{name}: expected an (N, 3) array (NaN rows for missing samples), got shape {v.shape}")
+    return v
+
+
 def plausible_accel(accel, checks: SensorChecks) -> np.ndarray:
     """``(N,)`` bool: the sample is there and its norm is within tolerance of g₀."""
-    a = np.asarray(accel, dtype=float)
+    checks = as_instance("checks", checks, SensorChecks)
+    a = _samples3("accel", accel)
     norm = np.linalg.norm(a, axis=-1)
     ok = np.isfinite(norm)
     if checks.accel_norm_tolerance_m_s2 is not None:
@@ -74,7 +82,11 @@ def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
 
     ``field_n`` is the reference field in NED, in the magnetometer's unit.
     """
-    m = np.asarray(mag, dtype=float)
+    checks = as_instance("checks", checks, SensorChecks)
+    m = _samples3("mag", mag)
+    a = _samples3("accel", accel)
+    if a.shape != m.shape:
+        raise ValueError(f"accel: expected the shape of mag {m.shape}, got {a.shape}")
     field = as_vectors3("field_n", field_n)
     strength = float(np.linalg.norm(field))
     norm = np.linalg.norm(m, axis=-1)
@@ -83,7 +95,6 @@ def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
         if checks.mag_norm_tolerance is not None:
             ok &= np.abs(norm / strength - 1.0) <= checks.mag_norm_tolerance
         if checks.mag_dip_tolerance_rad is not None:
-            a = np.asarray(accel, dtype=float)
             down_known = plausible_accel(a, checks) & ok
             down = -a / np.linalg.norm(a, axis=-1, keepdims=True)
             dip = np.arcsin(np.clip(np.sum(m * down, axis=-1) / norm, -1.0, 1.0))

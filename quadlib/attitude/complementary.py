@@ -32,7 +32,7 @@ import numpy as np
 
 from quadlib.geometry.quaternion import integrate_body_rate, quat_from_euler, quat_to_euler
 from quadlib.geometry.rotations import accel_tilt
-from quadlib.validation import as_finite_array, as_positive, as_vector
+from quadlib.validation import as_finite_array, as_float_array, as_positive, as_vector
 
 __all__ = ["blend_weight", "euler_rate_complementary", "linear_complementary", "nonlinear_complementary"]
 
@@ -46,7 +46,7 @@ def blend_weight(tau: float, dt: float) -> float:
 def _inputs(gyro, accel, initial, a: float):
     """Gyro, accelerometer tilt, start, and each step's weight on the gyro: ``a``, or 1 where the
     accelerometer gives no tilt (a missing sample, free fall) — the gyro alone carries the step."""
-    gyro, accel = as_finite_array("gyro", gyro, ndim=2), np.asarray(accel, dtype=float)
+    gyro, accel = as_finite_array("gyro", gyro, ndim=2), as_float_array("accel", accel)
     if gyro.shape[1] != 3 or accel.shape != gyro.shape:
         raise ValueError(f"gyro, accel: expected two (N, 3) arrays, got {gyro.shape} and {accel.shape}")
     tilt = np.column_stack(accel_tilt(accel))

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.attitude.bias_model import attitude_bias_model
+from quadlib.attitude.bias_model import as_attitude_state, attitude_bias_model
 from quadlib.attitude.complementary import euler_rate_complementary
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.fixedwing.model import (
@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_number, as_positive, check_fields
+from quadlib.validation import as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -84,8 +84,14 @@ def _process_noise(noise: FixedWingNoise) -> tuple[float, float, float | None]:
 
 def salmony_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
     """Salmony's EKF (:func:`~quadlib.fixedwing.model.fixedwing_model`) at ``x0 = [q, b]``."""
+    x0, noise, tuning = _filter_args(x0, noise, tuning)
     P0 = np.diag([tuning.quaternion_sigma0**2] * 4 + [tuning.bias_sigma0_rad_s**2] * 3)
     return ModelEKF(fixedwing_model(*_process_noise(noise)), x0, P0, dt)
+
+
+def _filter_args(x0, noise, tuning):
+    return (as_attitude_state("x0", x0), as_instance("noise", noise, FixedWingNoise),
+            as_instance("tuning", tuning, FixedWingTuning))
 
 
 def _error_state_P0(tuning: FixedWingTuning) -> np.ndarray:
@@ -94,11 +100,13 @@ def _error_state_P0(tuning: FixedWingTuning) -> np.ndarray:
 
 def multiplicative_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
     """The error-state model (:func:`~quadlib.attitude.attitude_bias_model`) in an EKF."""
+    x0, noise, tuning = _filter_args(x0, noise, tuning)
     return ModelEKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
 
 
 def error_state_ukf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelUKF:
     """The error-state model in a UKF (default sigma points, α = 0.5)."""
+    x0, noise, tuning = _filter_args(x0, noise, tuning)
     return ModelUKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
 
 
@@ -106,6 +114,7 @@ def initial_state(log: ImuLog, n_still: int) -> np.ndarray:
     """§8.1: the gyro bias as the mean of the first ``n_still`` gyro samples, the attitude from their
     mean accelerometer and magnetometer vectors. The samples must come from an unaccelerated,
     non-rotating stretch: at rest, or in steady straight and level flight."""
+    log = as_instance("log", log, ImuLog)
     if isinstance(n_still, bool) or not isinstance(n_still, (int, np.integer)) or n_still < 1:
         raise ValueError(f"n_still: expected an int >= 1, got {n_still!r}")
     if log.mag is None:
@@ -133,6 +142,11 @@ def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sen
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     if log.airspeed is None or log.mag is None:
         raise ValueError("log: expected magnetometer and airspeed samples (NaN where missing), got None")
+    mag_sensor = as_instance("mag_sensor", mag_sensor, Sensor)
+    accel_sigma_m_s2 = as_positive("accel_sigma_m_s2", accel_sigma_m_s2)
+    unmodelled_m_s2 = as_positive("unmodelled_m_s2", unmodelled_m_s2)
+    if prefilter_hz is not None:
+        prefilter_hz = as_positive("prefilter_hz", prefilter_hz)
     accel, mag = log.accel, log.mag
     if prefilter_hz is not None:
         dt = float(log.t[1] - log.t[0])
@@ -191,8 +205,19 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:
     """Chapter 7's Euler-rate complementary filter for roll and pitch (time constant ``tau_s`` [s])
     and the tilt-compensated magnetometer heading for yaw: no bias estimate, no airspeed.
-    Returns roll, pitch, yaw ``(N, 3)`` [rad]."""
+    Returns roll, pitch, yaw ``(N, 3)`` [rad]. Over a magnetometer gap the last heading holds
+    (before the first sample, the first one)."""
+    log = as_instance("log", log, ImuLog)
+    if log.mag is None:
+        raise ValueError("log.mag: expected magnetometer samples (NaN where missing), got None")
+    declination_rad = as_finite_number("declination_rad", declination_rad)
     dt = float(log.t[1] - log.t[0])
     roll_pitch = euler_rate_complementary(dt, log.gyro, log.accel, as_positive("tau_s", tau_s))
-    yaw = mag_heading(np.where(np.isnan(log.mag), 0.0, log.mag), roll_pitch[:, 0], roll_pitch[:, 1], declination_rad)
+    present = ~np.isnan(log.mag).any(axis=1)
+    if not present.any():
+        raise ValueError("log.mag: expected at least one magnetometer sample, got none")
+    k = np.flatnonzero(present)
+    heading = mag_heading(log.mag[k], roll_pitch[k, 0], roll_pitch[k, 1], declination_rad)
+    last = np.maximum.accumulate(np.where(present, np.arange(len(log)), -1))  # the latest sample so far
+    yaw = heading[np.searchsorted(k, np.where(last >= 0, last, k[0]))]
     return np.column_stack([roll_pitch, yaw])

@@ -36,6 +36,7 @@ import numpy as np
 from quadlib.attitude.bias_model import (
     GYRO_NAMES,
     STATE_NAMES,
+    as_attitude_state,
     gyro_step,
     gyro_step_jacobian,
     normalize_attitude,
@@ -48,7 +49,7 @@ from quadlib.geometry.quaternion import (
 )
 from quadlib.imu import ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_float_array, as_positive
+from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
 
 __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",
            "fixedwing_accel_sensor", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
@@ -58,31 +59,37 @@ __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pre
 
 def fixedwing_f(x, omega) -> np.ndarray:
     """``ẋ = f(x, ω)`` (eqs. 9–11, corrected): ``(7,)``."""
-    x = np.asarray(x, dtype=float)
-    return np.concatenate([0.5 * quaternion_rate_matrix(x[:4]) @ (np.asarray(omega, dtype=float) - x[4:]),
+    x, omega = as_attitude_state("x", x), as_vector("omega", omega, 3)
+    return np.concatenate([0.5 * quaternion_rate_matrix(x[:4]) @ (omega - x[4:]),
                            np.zeros(3)])
 
 
 def fixedwing_A(x, omega) -> np.ndarray:
     """``A = ∂f/∂x`` (eq. 12, corrected), ``(7, 7)``."""
-    x = np.asarray(x, dtype=float)
-    p, q, r = np.asarray(omega, dtype=float) - x[4:]
+    x = as_attitude_state("x", x)
+    p, q, r = as_vector("omega", omega, 3) - x[4:]
     A = np.zeros((7, 7))
     A[:4, :4] = 0.5 * np.array([[0, -p, -q, -r], [p, 0, r, -q], [q, -r, 0, p], [r, q, -p, 0]])
     A[:4, 4:] = -0.5 * quaternion_rate_matrix(x[:4])
     return A
 
 
+def _accel_args(x, airspeed_m_s, g):
+    return as_attitude_state("x", x), as_finite_number("airspeed_m_s", airspeed_m_s), as_positive("g", g)
+
+
 def accel_model(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
     """Eq. (13): specific force in the body frame, ``(3,)`` [m/s²]."""
-    x = np.asarray(x, dtype=float)
-    p, q, r = np.asarray(omega, dtype=float) - x[4:]
+    x, airspeed_m_s, g = _accel_args(x, airspeed_m_s, g)
+    p, q, r = as_vector("omega", omega, 3) - x[4:]
     return np.array([0.0, airspeed_m_s * r, -airspeed_m_s * q]) - g * quat_to_dcm(x[:4])[2]
 
 
 def accel_jacobian(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
     """``∂(eq. 13)/∂x``, ``(3, 7)`` (the first three rows of Salmony's C)."""
-    q0, q1, q2, q3 = np.asarray(x, dtype=float)[:4]
+    x, airspeed_m_s, g = _accel_args(x, airspeed_m_s, g)
+    as_vector("omega", omega, 3)  # the Jacobian does not depend on it, but the call must make sense
+    q0, q1, q2, q3 = x[:4]
     C = np.zeros((3, 7))
     C[:, :4] = -2.0 * g * np.array([[-q2, q3, -q0, q1], [q1, q0, q3, q2], [0.0, -2 * q1, -2 * q2, 0.0]])
     C[1, 6], C[2, 5] = -airspeed_m_s, airspeed_m_s
@@ -92,13 +99,14 @@ def accel_jacobian(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
 def mag_model(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
     """Eq. (14), corrected: the unit field ``R(q)ᵀ m_n`` in the body frame. The document's
     model is ``inclination_rad = 0`` (a horizontal field)."""
-    return quat_to_dcm(np.asarray(x, dtype=float)[:4]).T @ earth_field_ned(1.0, inclination_rad, declination_rad)
+    x = as_attitude_state("x", x)
+    return quat_to_dcm(x[:4]).T @ earth_field_ned(1.0, inclination_rad, declination_rad)
 
 
 def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
     """``∂(mag_model)/∂x``, ``(3, 7)``, exact: the model is a quadratic polynomial in ``q``, so a
     central difference with unit steps has no truncation error."""
-    q = np.asarray(x, dtype=float)[:4]
+    q = as_attitude_state("x", x)[:4]
     steps = np.vstack([q + np.eye(4), q - np.eye(4)])  # the eight points, one rotation-matrix call
     fields = np.einsum("nji,j->ni", quat_to_dcm(steps, unit_tolerance=None),
                        earth_field_ned(1.0, inclination_rad, declination_rad))
@@ -130,10 +138,10 @@ def lowpass2(x, cutoff_hz: float, dt: float) -> np.ndarray:
 
 def airspeed_from_pressure(dp_pa, rho_kg_m3: float = 1.225) -> np.ndarray:
     """Eq. (2): pitot airspeed ``√(2 ΔP / ρ)`` [m/s]."""
-    dp = np.asarray(dp_pa, dtype=float)
+    dp = as_finite_array("dp_pa", dp_pa)
     if np.any(dp < 0):
         raise ValueError(f"dp_pa: expected non-negative differential pressures, got a minimum of {dp.min()}")
-    return np.sqrt(2.0 * dp / float(rho_kg_m3))
+    return np.sqrt(2.0 * dp / as_positive("rho_kg_m3", rho_kg_m3))
 
 
 # --- quadlib models and sensors ------------------------------------------------------------
@@ -207,6 +215,8 @@ def fixedwing_mag_sensor(declination_rad: float, sigma: float, inclination_rad: 
     """Eq. (14), corrected (E20), on the unit field; ``inclination_rad = 0`` is the document's
     horizontal field. ``sigma`` is per axis of the unit vector."""
     s = as_positive("sigma", sigma)
+    declination_rad = as_finite_number("declination_rad", declination_rad)
+    inclination_rad = as_finite_number("inclination_rad", inclination_rad)
     return Sensor(name="mag", measurement_names=("mx", "my", "mz"),
                   h=lambda x: mag_model(x, declination_rad, inclination_rad),
                   H=lambda x: mag_jacobian(x, declination_rad, inclination_rad), R=s**2 * np.eye(3))

@@ -19,7 +19,7 @@ from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, qua
 from quadlib.imu import ImuLog
 from quadlib.sim.imu import BodyMotion, imu_samples
 from quadlib.sim.trajectories import min_jerk
-from quadlib.validation import as_finite_number, as_positive, as_rng
+from quadlib.validation import as_finite_number, as_instance, as_positive, as_rng
 
 __all__ = ["FixedWingFlight", "aileron_roll", "fixedwing_flight", "fixedwing_samples"]
 
@@ -83,6 +83,7 @@ def aileron_roll(flight: FixedWingFlight, start_s: float, rate_rad_s: float, tur
 def fixedwing_samples(flight: FixedWingFlight, noise: FixedWingNoise, rng) -> ImuLog:
     """Sensor samples of ``flight``: gyro with bias and bias random walk, accelerometer, the
     magnetometer as a unit vector (declination and inclination), and pitot airspeed."""
+    flight, noise = as_instance("flight", flight, FixedWingFlight), as_instance("noise", noise, FixedWingNoise)
     rng = as_rng(rng)
     log = imu_samples(flight, noise, rng, field_n=earth_field_ned(1.0, noise.inclination_rad, noise.declination_rad))
     mag = log.mag / np.linalg.norm(log.mag, axis=1, keepdims=True)

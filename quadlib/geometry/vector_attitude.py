@@ -12,6 +12,7 @@ from typing import NamedTuple
 import numpy as np
 
 from quadlib.geometry.quaternion import (
+    as_unit_quaternions,
     quat_canonical,
     quat_conjugate,
     quat_from_dcm,
@@ -20,7 +21,7 @@ from quadlib.geometry.quaternion import (
     quat_normalize,
     quat_to_rotvec,
 )
-from quadlib.validation import as_finite_array, as_positive, as_quaternions, as_vectors3
+from quadlib.validation import as_finite_array, as_positive, as_vectors3
 
 __all__ = ["AbsoluteAttitude", "attitude_from_accel_mag", "average_geodesic", "average_quaternion",
            "average_rotvec"]
@@ -78,9 +79,10 @@ def attitude_from_accel_mag(f_b, m_b, min_accel_m_s2: float = 2.0, min_angle_rad
 
 
 def _weights(w1, w2):
-    w1, w2 = np.asarray(w1, dtype=float), np.asarray(w2, dtype=float)
+    w1, w2 = as_finite_array("w1", w1), as_finite_array("w2", w2)
     if np.any(w1 < 0) or np.any(w2 < 0) or np.any(w1 + w2 <= 0):
-        raise ValueError("w1, w2: expected non-negative weights with a positive sum")
+        raise ValueError(f"w1, w2: expected non-negative weights with a positive sum, got {w1.tolist()} and "
+                         f"{w2.tolist()}")
     return w1, w2
 
 
@@ -98,7 +100,7 @@ def average_quaternion(q1, q2, w1=0.5, w2=0.5) -> np.ndarray:
     used as given.
     """
     w1, w2 = _weights(w1, w2)
-    q1, q2 = as_quaternions("q1", q1), as_quaternions("q2", q2)
+    q1, q2 = as_unit_quaternions("q1", q1), as_unit_quaternions("q2", q2)
     return quat_normalize(w1[..., None] * q1 + w2[..., None] * q2)
 
 
@@ -106,7 +108,7 @@ def average_geodesic(q1, q2, w1=0.5, w2=0.5) -> np.ndarray:
     """Kesten eqs. (2.13)–(2.16): the attitude on the shortest rotation from ``q1`` to ``q2``, a
     fraction ``w2/(w1 + w2)`` of the way — it minimises ``w1 θ1 + w2 θ2`` (eq. 2.9)."""
     w1, w2 = _weights(w1, w2)
-    q1, q2 = as_quaternions("q1", q1), as_quaternions("q2", q2)
+    q1, q2 = as_unit_quaternions("q1", q1), as_unit_quaternions("q2", q2)
     theta_delta = quat_to_rotvec(quat_canonical(quat_multiply(quat_conjugate(q1), q2)))  # eqs. (2.14), shortest
     k = (w2 / (w1 + w2))[..., None]  # eq. (2.15)
     return quat_multiply(q1, quat_from_rotvec(k * theta_delta))  # eq. (2.16)

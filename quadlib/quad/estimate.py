@@ -11,7 +11,7 @@ from quadlib.model import Model, Sensor
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements, Samples
-from quadlib.validation import as_vector, check_fields
+from quadlib.validation import as_instance, as_times, as_vector, check_fields
 
 __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf"]
 
@@ -66,6 +66,7 @@ class Quad3DTuning:
 
 def quad3d_ekf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelEKF:
     """The 7-state EKF at ``x0`` with step ``dt`` [s]."""
+    tuning = as_instance("tuning", tuning, Quad3DTuning)
     return ModelEKF(tuning.model(), x0, tuning.P0, dt)
 
 
@@ -103,7 +104,8 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
             raise ValueError("gps, mag: expected at least one sample of each to start from, got none")
         x0 = np.concatenate([gps.z[0], mag.z[0]])
     x0 = as_vector("x0", x0, 7)
-    t = np.asarray(t, dtype=float)
+    t = as_times("t", t)
+    tuning = as_instance("tuning", tuning, Quad3DTuning)
     gps_sensor, mag_sensor = tuning.sensors()
     return run_filter(quad3d_ekf(x0, float(t[1] - t[0]), tuning), t, u,
                       [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)],

@@ -25,7 +25,7 @@ from quadlib.imu import ImuNoise
 from quadlib.samples import Samples
 from quadlib.sim.imu import BodyMotion
 from quadlib.sim.trajectories import min_jerk
-from quadlib.validation import as_positive, as_rng
+from quadlib.validation import as_finite_array, as_instance, as_positive, as_rng, as_times, as_vectors3
 
 __all__ = ["Flight3D", "SensorNoise3D", "baro_samples", "figure_eight", "flight_from_path",
            "gps_samples", "mag_field_samples", "mag_yaw_samples", "square_course"]
@@ -55,9 +55,12 @@ def flight_from_path(t, pos, vel, acc, yaw) -> Flight3D:
     Body z points against the thrust, ``b3 = −(a − g_n)/|a − g_n|``; body x is the heading
     direction projected perpendicular to it.
     """
-    t = np.asarray(t, dtype=float)
-    pos, vel, acc = (np.asarray(a, dtype=float) for a in (pos, vel, acc))
-    yaw = np.asarray(yaw, dtype=float)
+    t = as_times("t", t)
+    pos, vel, acc = (as_vectors3(name, a) for name, a in (("pos", pos), ("vel", vel), ("acc", acc)))
+    yaw = as_finite_array("yaw", yaw, ndim=1)
+    for name, a in (("pos", pos), ("vel", vel), ("acc", acc), ("yaw", yaw)):
+        if a.shape[0] != t.size or a.ndim != (1 if name == "yaw" else 2):
+            raise ValueError(f"{name}: expected one row per time ({t.size}), got shape {a.shape}")
     thrust = acc - GRAVITY_N
     b3 = -thrust / np.linalg.norm(thrust, axis=1, keepdims=True)
     heading = np.column_stack([np.cos(yaw), np.sin(yaw), np.zeros_like(yaw)])
@@ -164,6 +167,7 @@ def _every(flight: Flight3D, rate_hz: float) -> np.ndarray:
 
 def gps_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
     """GPS position and velocity ``[x, y, z, ẋ, ẏ, ż]`` (NED) at ``gps_rate_hz``."""
+    flight, noise = as_instance("flight", flight, Flight3D), as_instance("noise", noise, SensorNoise3D)
     k = _every(flight, noise.gps_rate_hz)
     sigma = np.concatenate([noise.gps_pos_sigma_m, noise.gps_vel_sigma_m_s]).astype(float)
     truth = np.hstack([flight.pos[k], flight.vel[k]])
@@ -172,6 +176,7 @@ def gps_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
 
 def mag_yaw_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
     """Heading from magnetic north [rad], wrapped to (−π, π], at ``mag_rate_hz`` (Tellex eq. 56)."""
+    flight, noise = as_instance("flight", flight, Flight3D), as_instance("noise", noise, SensorNoise3D)
     k = _every(flight, noise.mag_rate_hz)
     yaw = flight.euler[k, 2] + as_rng(rng).standard_normal(k.size) * noise.mag_yaw_sigma_rad
     return Samples(flight.t[k], wrap_angle(yaw)[:, None])
@@ -179,6 +184,7 @@ def mag_yaw_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
 
 def mag_field_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
     """Three-axis magnetometer [gauss] in the body frame; the field points north and down (dip)."""
+    flight, noise = as_instance("flight", flight, Flight3D), as_instance("noise", noise, SensorNoise3D)
     k = _every(flight, noise.mag_rate_hz)
     m_b = np.einsum("nji,j->ni", quat_to_dcm(flight.q_nb[k]), earth_field_ned(noise.field_gauss, noise.inclination_rad))
     return Samples(flight.t[k], m_b + as_rng(rng).standard_normal(m_b.shape) * noise.mag_sigma)
@@ -186,5 +192,6 @@ def mag_field_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
 
 def baro_samples(flight: Flight3D, noise: SensorNoise3D, rng) -> Samples:
     """Barometric altitude above the start [m] (``−z``) at ``baro_rate_hz``."""
+    flight, noise = as_instance("flight", flight, Flight3D), as_instance("noise", noise, SensorNoise3D)
     k = _every(flight, noise.baro_rate_hz)
     return Samples(flight.t[k], (-flight.pos[k, 2] + as_rng(rng).standard_normal(k.size) * noise.baro_sigma_m)[:, None])

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from quadlib.geometry.rotations import wrap_angle
-from quadlib.validation import as_finite_array, as_times
+from quadlib.samples import Samples
+from quadlib.validation import as_finite_array, as_instance, as_times
 
 __all__ = ["simple_pipeline"]
 
@@ -43,6 +44,7 @@ def simple_pipeline(t, roll_pitch, gps, baro, mag_yaw) -> np.ndarray:
     mag_yaw : Samples with ``z`` of shape (K, 1), heading [rad]
     """
     t = as_times("t", t)
+    gps, baro, mag_yaw = (as_instance(n, s, Samples) for n, s in (("gps", gps), ("baro", baro), ("mag_yaw", mag_yaw)))
     roll_pitch = as_finite_array("roll_pitch", roll_pitch, ndim=2)
     if roll_pitch.shape != (t.size, 2):
         raise ValueError(f"roll_pitch: expected shape ({t.size}, 2), got {roll_pitch.shape}")

@@ -25,7 +25,7 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_positive
+from quadlib.validation import as_finite_number, as_positive
 
 __all__ = ["quad2d_model", "quad2d_range_sensor"]
 
@@ -80,7 +80,7 @@ def quad2d_range_sensor(sigma_m: float, wall_y_m: float = 5.0, rate_hz: float | 
     ``h`` also accepts an ``(m, 3)`` stack of states and returns ``(m,)`` ranges (for Monte Carlo).
     """
     s = as_positive("sigma_m", sigma_m)
-    wall = float(wall_y_m)
+    wall = as_finite_number("wall_y_m", wall_y_m)
 
     def h(x):
         x = np.asarray(x, dtype=float)

@@ -46,7 +46,10 @@ def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "
     gravity : {"ned", "seed"}
         ``"ned"``: ``+g₀ Δt`` on ``ż`` (default); ``"seed"``: ``−g₀ Δt`` as printed in eq. (49).
     """
-    sa = np.broadcast_to(as_finite_array("accel_sigma_m_s2", accel_sigma_m_s2), (3,)).astype(float)
+    sa = as_finite_array("accel_sigma_m_s2", accel_sigma_m_s2)
+    if sa.shape not in ((), (1,), (3,)):
+        raise ValueError(f"accel_sigma_m_s2: expected one σ or three (x, y, z), got shape {sa.shape}")
+    sa = np.broadcast_to(sa, (3,)).astype(float)
     if np.any(sa <= 0):
         raise ValueError(f"accel_sigma_m_s2: expected positive values, got {sa.tolist()}")
     sr = as_positive("yaw_rate_sigma_rad_s", yaw_rate_sigma_rad_s)
@@ -164,7 +167,7 @@ def imu_inputs(dt_imu: float, accel, gyro, roll_pitch, decimate: int = 1) -> np.
     if accel.shape != (n, 3) or gyro.shape != (n, 3) or roll_pitch.shape != (n, 2):
         raise ValueError(f"accel, gyro, roll_pitch: expected shapes (N, 3), (N, 3), (N, 2), got "
                          f"{accel.shape}, {gyro.shape}, {roll_pitch.shape}")
-    if not isinstance(decimate, (int, np.integer)) or not 1 <= decimate <= n:
+    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or not 1 <= decimate <= n:
         raise ValueError(f"decimate: expected an int in [1, {n}], got {decimate!r}")
     roll, pitch = roll_pitch[:, 0], roll_pitch[:, 1]
     yaw_rate = (np.sin(roll) * gyro[:, 1] + np.cos(roll) * gyro[:, 2]) / np.cos(pitch)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.attitude.complementary import euler_rate_complementary
+from quadlib.model import Sensor
 from quadlib.quad.flight import (
     Flight3D,
     SensorNoise3D,
@@ -27,6 +28,7 @@ from quadlib.quad.flight import (
 from quadlib.quad.quad3d import imu_inputs
 from quadlib.samples import Measurements, Samples
 from quadlib.sim.imu import imu_samples
+from quadlib.validation import as_instance
 
 __all__ = ["Run3D", "run3d_measurements", "simulate_run3d"]
 
@@ -66,6 +68,8 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     ``tau`` is the complementary filter's time constant [s]; ``true_attitude=True`` feeds the
     model the true roll and pitch instead (an oracle, to separate the attitude's share of the error).
     """
+    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or decimate < 1:
+        raise ValueError(f"decimate: expected an int >= 1, got {decimate!r}")
     imu = imu_samples(flight, noise, rng)
     gps, mag = gps_samples(flight, noise, rng), mag_yaw_samples(flight, noise, rng)
     baro = baro_samples(flight, noise, rng)
@@ -81,6 +85,10 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
 
 def run3d_measurements(run: Run3D, gps_sensor, mag_sensor, baro_sensor=None) -> list[Measurements]:
     """The run's samples as :class:`quadlib.Measurements` for the given sensor models."""
+    run = as_instance("run", run, Run3D)
+    for name, sensor in (("gps_sensor", gps_sensor), ("mag_sensor", mag_sensor), ("baro_sensor", baro_sensor)):
+        if sensor is not None or name != "baro_sensor":
+            as_instance(name, sensor, Sensor)
     out = [Measurements(gps_sensor, run.gps.t, run.gps.z), Measurements(mag_sensor, run.mag.t, run.mag.z)]
     if baro_sensor is not None:
         out.append(Measurements(baro_sensor, run.baro.t, run.baro.z))

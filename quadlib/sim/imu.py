@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.constants import GRAVITY_N
-from quadlib.geometry.quaternion import quat_to_dcm
+from quadlib.geometry.quaternion import as_unit_quaternions, quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
-from quadlib.validation import as_rng, as_vector
+from quadlib.validation import as_rng, as_times, as_vector, as_vectors3
 
 __all__ = ["BodyMotion", "imu_samples", "specific_force_at_rest"]
 
@@ -35,6 +35,16 @@ class BodyMotion:
     omega_b: np.ndarray
     f_b: np.ndarray
 
+    def __post_init__(self):
+        t = as_times(f"{type(self).__name__}.t", self.t)
+        n = t.size
+        q = as_unit_quaternions(f"{type(self).__name__}.q_nb", self.q_nb)
+        for name, value in (("q_nb", q), ("omega_b", as_vectors3(f"{type(self).__name__}.omega_b", self.omega_b)),
+                            ("f_b", as_vectors3(f"{type(self).__name__}.f_b", self.f_b))):
+            if value.shape[0:1] != (n,) or value.ndim != 2:
+                raise ValueError(f"{type(self).__name__}.{name}: expected one row per time, ({n}, "
+                                 f"{value.shape[-1]}), got {value.shape}")
+
     @property
     def dt(self) -> float:
         """Sample period [s] (the motions here are uniformly sampled)."""
@@ -43,7 +53,7 @@ class BodyMotion:
 
 def specific_force_at_rest(q_nb) -> np.ndarray:
     """``−R(q_nb)ᵀ g_n``, ``(N, 3)``: the accelerometer of a vehicle that does not accelerate."""
-    return -np.einsum("nji,j->ni", quat_to_dcm(q_nb), GRAVITY_N)
+    return -np.einsum("nji,j->ni", quat_to_dcm(as_unit_quaternions("q_nb", q_nb)), GRAVITY_N)
 
 
 def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, accel_every: int = 1) -> ImuLog:

@@ -9,7 +9,7 @@ import numpy as np
 
 from quadlib.model import Model, Sensor
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_array, as_positive, as_probability, as_rng, as_times
+from quadlib.validation import as_finite_array, as_instance, as_positive, as_probability, as_rng, as_times
 
 __all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
 
@@ -32,7 +32,9 @@ def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> n
     -------
     (N, n) ndarray
     """
-    rng = as_rng(rng)
+    model, rng = as_instance("model", model, Model), as_rng(rng)
+    if not isinstance(process_noise, bool):
+        raise TypeError(f"process_noise: expected True or False, got {process_noise!r}")
     t = as_times("t", t)
     N = t.shape[0]
     u = model.check_inputs(u, N)
@@ -64,8 +66,8 @@ def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Me
     -------
     Measurements
     """
-    rng = as_rng(rng)
-    t = as_finite_array("t", t, ndim=1)
+    sensor, rng = as_instance("sensor", sensor, Sensor), as_rng(rng)
+    t = as_times("t", t)
     x = as_finite_array("x", x, ndim=2)
     if x.shape[0] != t.shape[0]:
         raise ValueError(f"x: expected {t.shape[0]} rows to match t, got shape {x.shape}")
@@ -83,7 +85,7 @@ def sample_sensor(sensor: Sensor, t, x, rng, rate_hz: float | None = None) -> Me
 
 def with_dropouts(measurements: Measurements, rng, probability: float) -> Measurements:
     """Copy of ``measurements`` with each sample independently missing (NaN) with ``probability``."""
-    rng = as_rng(rng)
+    measurements, rng = as_instance("measurements", measurements, Measurements), as_rng(rng)
     p = as_probability("probability", probability, open_interval=False)
     z = measurements.z.copy()
     z[rng.random(z.shape[0]) < p] = np.nan
@@ -103,7 +105,7 @@ def with_outliers(measurements: Measurements, rng, probability: float,
     (Measurements, (K,) bool ndarray)
         The corrupted samples and which of them are outliers.
     """
-    rng = as_rng(rng)
+    measurements, rng = as_instance("measurements", measurements, Measurements), as_rng(rng)
     p = as_probability("probability", probability, open_interval=False)
     scale = as_positive("noise_scale", noise_scale)
     if scale < 1:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array
+from quadlib.validation import as_finite_array, as_finite_number
 
 __all__ = ["min_jerk", "piecewise_constant", "step_profile"]
 
@@ -26,7 +26,9 @@ def step_profile(t, t_step: float, before: float, after: float) -> np.ndarray:
     (N,) ndarray
     """
     t = as_finite_array("t", t, ndim=1)
-    return np.where(t >= float(t_step), float(after), float(before))
+    t_step, after, before = (as_finite_number(n, v) for n, v in (("t_step", t_step), ("after", after),
+                                                                 ("before", before)))
+    return np.where(t >= t_step, after, before)
 
 
 def piecewise_constant(t, breakpoints, values) -> np.ndarray:

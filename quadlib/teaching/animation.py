@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.animation import FuncAnimation
 
-from quadlib.validation import as_finite_array, as_times
+from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times
 
 __all__ = ["animate_quad2d", "animation_html", "quad2d_geometry"]
 
@@ -34,6 +34,8 @@ def animation_html(fig, anim: FuncAnimation, html_id: str):
     """
     from IPython.display import HTML
 
+    if not isinstance(anim, FuncAnimation):
+        raise TypeError(f"anim: expected a matplotlib FuncAnimation (from animate_quad2d), got {type(anim).__name__}")
     if not isinstance(html_id, str) or not _HTML_ID.fullmatch(html_id):
         raise ValueError(f"html_id: expected a name of letters, digits and '_' (not starting with a digit), "
                          f"got {html_id!r}")
@@ -59,6 +61,8 @@ def quad2d_geometry(phi: float, y: float, wall_y_m: float, arm_m: float = 0.3):
     body, beam : tuple of ([y0, y1], [up0, up1])
     range_m : float
     """
+    phi, y, wall_y_m = (as_finite_number(n, v) for n, v in (("phi", phi), ("y", y), ("wall_y_m", wall_y_m)))
+    arm_m = as_positive("arm_m", arm_m)
     c, s = np.cos(phi), np.sin(phi)
     body = ([y - arm_m * c, y + arm_m * c], [arm_m * s, -arm_m * s])
     beam = ([y, wall_y_m], [0.0, -(wall_y_m - y) * np.tan(phi)])
@@ -97,9 +101,11 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
         for name, arr in (("estimate", estimate), ("sigma", sigma)):
             if arr.shape != x_true.shape:
                 raise ValueError(f"{name}: expected shape {x_true.shape}, got {arr.shape}")
-    if not isinstance(n_frames, (int, np.integer)) or not 1 <= n_frames <= t.size:
+    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or not 1 <= n_frames <= t.size:
         raise ValueError(f"n_frames: expected an int in [1, {t.size}], got {n_frames!r}")
-    wall = float(wall_y_m)
+    if isinstance(dpi, bool) or not isinstance(dpi, (int, np.integer)) or dpi < 1:
+        raise ValueError(f"dpi: expected an int >= 1, got {dpi!r}")
+    wall, arm_m = as_finite_number("wall_y_m", wall_y_m), as_positive("arm_m", arm_m)
     frames = np.linspace(0, t.size - 1, int(n_frames)).round().astype(int)
 
     fig, ax = plt.subplots(figsize=(6, 2.2), dpi=dpi, layout="constrained")

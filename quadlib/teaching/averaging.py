@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array, as_probability
+from quadlib.validation import as_finite_array, as_finite_number, as_probability
 
 __all__ = ["batch_mean", "exponential_average", "half_average", "recursive_mean"]
 
@@ -69,7 +69,7 @@ def exponential_average(z, alpha: float, x0: float | None = None) -> np.ndarray:
     """
     z = _samples(z)
     alpha = as_probability("alpha", alpha, open_interval=False)
-    estimate = z[0] if x0 is None else float(x0)
+    estimate = z[0] if x0 is None else as_finite_number("x0", x0)
     out = np.empty_like(z)
     for t, zt in enumerate(z):
         estimate = alpha * estimate + (1.0 - alpha) * zt

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
-from quadlib.validation import as_finite_array, as_positive, as_probability
+from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_probability
 
 __all__ = ["belief_mean_std", "gaussian_belief", "gaussian_kernel", "gaussian_likelihood", "uniform_grid"]
 
@@ -28,6 +28,7 @@ def uniform_grid(low: float, high: float, cell: float) -> np.ndarray:
         Cell width, > 0.
     """
     cell = as_positive("cell", cell)
+    low, high = as_finite_number("low", low), as_finite_number("high", high)
     if not high > low:
         raise ValueError(f"high: expected a value > low = {low!r}, got {high!r}")
     n = int(round((high - low) / cell)) + 1
@@ -37,7 +38,8 @@ def uniform_grid(low: float, high: float, cell: float) -> np.ndarray:
 def _grid(grid) -> np.ndarray:
     grid = as_finite_array("grid", grid, ndim=1)
     if grid.size < 2 or np.any(np.diff(grid) <= 0):
-        raise ValueError("grid: expected at least two strictly increasing cell centres")
+        raise ValueError(f"grid: expected at least two strictly increasing cell centres, got {grid.tolist()[:5]}"
+                         f"{' …' if grid.size > 5 else ''}")
     return grid
 
 
@@ -48,6 +50,8 @@ def gaussian_kernel(sigma_cells: float, half_width: int | None = None) -> np.nda
     ``half_width`` defaults to ``ceil(5 sigma)``; the length is ``2 half_width + 1``.
     """
     s = as_positive("sigma_cells", sigma_cells)
+    if half_width is not None and (isinstance(half_width, bool) or not isinstance(half_width, (int, np.integer))):
+        raise TypeError(f"half_width: expected an integer >= 0, got {half_width!r}")
     half = int(np.ceil(5 * s)) if half_width is None else int(half_width)
     if half < 0:
         raise ValueError(f"half_width: expected an integer >= 0, got {half_width!r}")
@@ -59,7 +63,7 @@ def gaussian_kernel(sigma_cells: float, half_width: int | None = None) -> np.nda
 def gaussian_belief(grid, mean: float, std: float) -> np.ndarray:
     """Belief with the mass of ``N(mean, std²)`` in each cell, normalised over the grid."""
     grid = _grid(grid)
-    std = as_positive("std", std)
+    std, mean = as_positive("std", std), as_finite_number("mean", mean)
     half = 0.5 * (grid[1] - grid[0])
     mass = norm.cdf((grid + half - mean) / std) - norm.cdf((grid - half - mean) / std)
     if mass.sum() <= 0:
@@ -88,7 +92,7 @@ def gaussian_likelihood(grid, z: float, sigma: float, outlier_probability: float
     outlier_range : (a, b), optional
     """
     grid = _grid(grid)
-    sigma = as_positive("sigma", sigma)
+    sigma, z = as_positive("sigma", sigma), as_finite_number("z", z)
     eps = as_probability("outlier_probability", outlier_probability, open_interval=False)
     if eps >= 1:
         raise ValueError(f"outlier_probability: expected a number in [0, 1), got {outlier_probability!r}")

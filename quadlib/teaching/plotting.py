@@ -11,8 +11,21 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from quadlib.analysis.metrics import chi2_interval
+from quadlib.validation import as_float_array, as_positive, as_times
 
 __all__ = ["plot_consistency", "plot_estimate", "plot_innovations"]
+
+
+def _series(t, **named):
+    """``t`` (times) and each named array of one value per time (NaN allowed), or a named error."""
+    t = as_times("t", t)
+    out = [t]
+    for name, value in named.items():
+        arr = None if value is None else as_float_array(name, value)
+        if arr is not None and (arr.ndim == 0 or arr.shape[0] != t.size):
+            raise ValueError(f"{name}: expected one value per time ({t.size}), got shape {arr.shape}")
+        out.append(arr)
+    return out
 
 
 def _axes(ax, figsize=(7, 3)):
@@ -36,6 +49,8 @@ def plot_estimate(t, estimate, sigma=None, truth=None, *, k: float = 2.0, ax=Non
     measurements : tuple (t_z, z), optional
         Raw samples to show as dots.
     """
+    t, estimate, sigma, truth = _series(t, estimate=estimate, sigma=sigma, truth=truth)
+    k = as_positive("k", k)
     ax = _axes(ax)
     if measurements is not None:
         ax.plot(*measurements, ".", ms=2, color="0.6", label="measurements")
@@ -53,9 +68,11 @@ def plot_estimate(t, estimate, sigma=None, truth=None, *, k: float = 2.0, ax=Non
 
 def plot_innovations(t, innovation, S, *, k: float = 2.0, ax=None, ylabel: str = "innovation"):
     """Plot scalar innovations with the ±k√S bounds they should mostly stay inside."""
+    t, innovation, S = _series(t, innovation=innovation, S=S)
+    k = as_positive("k", k)
     ax = _axes(ax)
-    y = np.asarray(innovation, dtype=float).reshape(len(t), -1)[:, 0]
-    s = np.sqrt(np.asarray(S, dtype=float).reshape(len(t), -1)[:, 0])
+    y = innovation.reshape(len(t), -1)[:, 0]
+    s = np.sqrt(S.reshape(len(t), -1)[:, 0])
     ax.plot(t, y, ".", ms=3, label="innovation")
     ax.plot(t, k * s, "r--", lw=1, label=f"±{k:g}√S")
     ax.plot(t, -k * s, "r--", lw=1)
@@ -68,8 +85,9 @@ def plot_innovations(t, innovation, S, *, k: float = 2.0, ax=None, ylabel: str =
 def plot_consistency(t, values, dof: int, *, n_runs: int = 1, probability: float = 0.95,
                      ax=None, name: str = "NEES"):
     """Plot NEES or NIS (averaged over ``n_runs``) against its two-sided χ² interval."""
-    ax = _axes(ax)
+    t, values = _series(t, values=values)
     low, high = chi2_interval(dof, n_runs, probability)
+    ax = _axes(ax)
     ax.plot(t, values, lw=1, label=name if n_runs == 1 else f"mean {name} ({n_runs} runs)")
     ax.axhline(low, color="r", ls="--", lw=1, label=f"{probability:.0%} χ² interval")
     ax.axhline(high, color="r", ls="--", lw=1)

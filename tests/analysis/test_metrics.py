@@ -52,7 +52,7 @@ def test_settling_time():
     x = np.array([0, 0, 0, 5, 8, 9.5, 10.2, 9.9, 10, 10])
     assert settling_time(t, x, target=10, tolerance=0.6, t_start=3.0) == pytest.approx(2.0)
     assert settling_time(t, x, target=20, tolerance=0.6, t_start=3.0) == np.inf
-    with pytest.raises(ValueError, match="tolerance: expected a number > 0"):
+    with pytest.raises(ValueError, match="tolerance: expected a finite number > 0"):
         settling_time(t, x, 10, 0.0, 3.0)
 
 
