@@ -20,18 +20,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.attitude.bias_model import attitude_bias_model
+from quadlib.attitude.bias_model import attitude_bias_model, quaternion_rate_matrix
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import GRAVITY_N
 from quadlib.filters import ModelEKF
-from quadlib.geometry.quaternion import body_vector, quat_to_dcm, vector_jacobian
+from quadlib.geometry.quaternion import body_vector, integrate_body_rate, quat_to_dcm, vector_jacobian
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_number, as_positive, check_fields
+from quadlib.validation import as_finite_array, as_finite_number, as_positive, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor"]
 
@@ -60,6 +60,9 @@ class OrientationParams:
     gyro_range_rad_s : float or None
         The gyro's full scale [rad/s]; a sample at it adds attitude uncertainty
         (:func:`~quadlib.imu.saturated_step_variance`). None: never saturates.
+    accel_tau_s : float or None
+        Time constant [s] of the accelerometer's low-pass in the non-rotating frame
+        (:func:`inertial_lowpass`; 3 s, VQF's default); None: the raw samples.
     """
 
     gyro_sigma_rad_s: float = 0.005
@@ -70,12 +73,13 @@ class OrientationParams:
     gate_probability: float | None = 0.999
     checks: SensorChecks = field(default_factory=SensorChecks)
     gyro_range_rad_s: float | None = None
+    accel_tau_s: float | None = 3.0
 
     def __post_init__(self):
         check_fields(self, {"gyro_sigma_rad_s": "positive", "gyro_bias_walk_rad_s_sqrt_s": "positive",
                             "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
                             "initial_bias_sigma_rad_s": "positive", "gate_probability": "optional probability",
-                            "gyro_range_rad_s": "optional positive"})
+                            "gyro_range_rad_s": "optional positive", "accel_tau_s": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
 
@@ -93,16 +97,14 @@ def _field_heading(x, m_b):
     return np.array([np.arctan2(m_n[1], m_n[0])])
 
 
-_CONJUGATE = np.diag([1.0, -1.0, -1.0, -1.0])
-
-
-def _field_heading_jacobian(x, m_b):
-    """``∂ atan2(m_y, m_x)/∂x`` with ``m = R(q) m_b``: ``R(q) v = R(q*)ᵀ v`` is quadratic in ``q``, so
-    its derivative is Kesten's exact one at ``q*``; the biases do not enter."""
-    m_n = quat_to_dcm(x[:4], unit_tolerance=None) @ m_b
-    d_heading = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
+def _heading_only_jacobian(x, m_b):
+    """The heading's Jacobian restricted to turns about the vertical: in error coordinates
+    ``∂ψ/∂δθ = R(q)[2, :]`` (a body turn ``δθ`` turns the earth frame by ``R δθ``, whose down
+    component is the heading change), ``0`` for the biases. Written with respect to ``x`` through
+    ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The innovation can then turn the attitude about
+    the vertical only: a heading computed with a slightly wrong tilt cannot tilt the estimate."""
     J = np.zeros((1, 7))
-    J[0, :4] = d_heading @ vector_jacobian(_CONJUGATE @ x[:4], m_b) @ _CONJUGATE
+    J[0, :4] = quat_to_dcm(x[:4], unit_tolerance=None)[2] @ (2.0 * quaternion_rate_matrix(x[:4]).T)
     return J
 
 
@@ -112,8 +114,40 @@ def heading_sensor(sigma_rad: float) -> Sensor:
     (where the field should point)."""
     as_positive("sigma_rad", sigma_rad)
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
-                  h=_field_heading, H=_field_heading_jacobian, R=np.full((1, 1), sigma_rad**2),
+                  h=_field_heading, H=_heading_only_jacobian, R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
+
+
+def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None) -> np.ndarray:
+    """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
+    body frame.
+
+    Each sample is turned into a frame integrated from the gyro alone, ``a_I = R(q_I) a_b``,
+    averaged there by a first-order low-pass of time constant ``tau_s``, and turned back,
+    ``R(q_I)ᵀ ā_I``. Gravity is constant in that frame and passes; a translation's accelerations
+    average out, since its velocity stays bounded (VQF's idea, Laidig & Seel 2023, §3). The
+    gyro's drift blurs the result: a bias ``b`` tilts the average by about ``|b| τ``, so
+    ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. Missing samples hold
+    the average.
+    """
+    tau = as_positive("tau_s", tau_s)
+    gyro = log.gyro if gyro_bias is None else log.gyro - np.broadcast_to(as_finite_array("gyro_bias", gyro_bias),
+                                                                          log.gyro.shape)
+    out = np.full_like(log.accel, np.nan)
+    q = np.array([1.0, 0.0, 0.0, 0.0])
+    mean = None
+    for k in range(len(log)):
+        R = quat_to_dcm(q, unit_tolerance=None)
+        a = log.accel[k]
+        if not np.isnan(a).any():
+            a_i = R @ a
+            dt = log.t[k] - log.t[k - 1] if k else 0.0
+            mean = a_i if mean is None else mean + dt / (tau + dt) * (a_i - mean)
+        if mean is not None:
+            out[k] = R.T @ mean
+        if k + 1 < len(log):
+            q = integrate_body_rate(q, gyro[k], log.t[k + 1] - log.t[k])
+    return out
 
 
 def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationParams(),
@@ -127,17 +161,24 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
+    if params.accel_tau_s is None:
+        return _orientation_pass(log, params, declination_rad, log.accel)
+    first = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, params.accel_tau_s))
+    return _orientation_pass(log, params, declination_rad, inertial_lowpass(log, params.accel_tau_s, first.x[:, 4:]))
+
+
+def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity) -> FilterRun:
     checks = params.checks
-    good_a = plausible_accel(log.accel, checks)
+    good_a = plausible_accel(gravity, checks)
     field_n = None
     has_mag = log.mag is not None
-    accel = np.where(good_a[:, None], log.accel, np.nan)
+    accel = np.where(good_a[:, None], gravity, np.nan)
     if has_mag:
         start = attitude_from_accel_mag(np.nan_to_num(log.accel[:200]), np.nan_to_num(log.mag[:200]))
         first = int(np.argmax(start.valid))
         q0 = start.q_nb[first]
         field_n = quat_to_dcm(q0) @ log.mag[first]
-        good_m = plausible_mag(log.mag, log.accel, field_n, checks)
+        good_m = plausible_mag(log.mag, gravity, field_n, checks)
     else:
         q0 = np.array([1.0, 0.0, 0.0, 0.0])
     dt = float(np.median(log.dt))
