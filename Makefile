@@ -47,6 +47,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/estimator_cost.py
 	$(BIN)/python benchmarks/fixedwing_divergence.py
 	$(BIN)/python benchmarks/faults.py
+	$(BIN)/python benchmarks/broad_orientation.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py
