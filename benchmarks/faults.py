@@ -44,10 +44,9 @@ from quadlib.fixedwing import (
     multiplicative_ekf,
     salmony_ekf,
 )
-from quadlib.imu import ImuLog
 from quadlib.quad import Quad3DTuning, SensorNoise3D, figure_eight, quad3d_ukf_options, simulate_run3d
 from quadlib.samples import Measurements
-from quadlib.sim import imu_samples
+from quadlib.sim import imu_faults, imu_samples
 
 START, LENGTH = 10.0, 2.0  # default fault window [s]
 
@@ -126,41 +125,6 @@ def quad3d_column(kind: str):
 GYRO_RANGE = float(np.radians(2000.0))
 
 
-def imu_faults(log: ImuLog, field_n, accel_sigma, rng):
-    """``{name: (faulty log, fault end)}`` for the faults every attitude estimator should survive."""
-    t = log.t
-    window = (t >= START) & (t < START + LENGTH)
-    out = {}
-
-    def with_(accel=None, mag=None, gyro=None):
-        return ImuLog(t, log.gyro if gyro is None else gyro, log.accel if accel is None else accel,
-                      log.mag if mag is None else mag, log.airspeed)
-
-    for factor in (5.0, 20.0):
-        mag = np.array(log.mag)
-        mag[window] += factor * np.linalg.norm(field_n) * np.array([1.0, 0.0, 0.0])  # a magnet fixed to the body
-        out[f"magnetometer + {factor:.0f}x field (magnet)"] = (with_(mag=mag), START + LENGTH)
-    mag = np.array(log.mag)
-    present = window & ~np.isnan(mag[:, 0])
-    mag[present] = mag[np.flatnonzero(present)[0]]
-    out["stuck magnetometer"] = (with_(mag=mag), START + LENGTH)
-    mag = np.array(log.mag)
-    mag[rng.random(t.size) < 0.3] = np.nan
-    out["magnetometer 30 % dropouts"] = (with_(mag=mag), t[-1])
-    accel = np.array(log.accel)
-    accel[window] = rng.normal(0.0, accel_sigma, (window.sum(), 3))
-    out["free fall 2 s"] = (with_(accel=accel), START + LENGTH)
-    accel = np.array(log.accel)
-    shock = (t >= START) & (t < START + 0.05)
-    accel[shock] = np.clip(accel[shock] + [0.0, 30 * 9.80665, 0.0], -16 * 9.80665, 16 * 9.80665)
-    out["30 g shock clipped at 16 g"] = (with_(accel=accel), START + 0.05)
-    accel = np.array(log.accel)
-    hit = rng.random(t.size) < 0.02
-    accel[hit] += rng.normal(0.0, 20 * accel_sigma, (hit.sum(), 3))
-    out["accelerometer spikes 20σ (2 %)"] = (with_(accel=accel), t[-1])
-    return out
-
-
 def _kesten(name):
     return lambda noise, log: run_attitude_filter(FILTERS[name](noise), log).q_nb
 
@@ -179,7 +143,7 @@ def attitude_column(estimate):
     clean = np.degrees(attitude_error(estimate(noise, clean_log), base.q_nb))
     clean_peak = clean[base.t > 2.0].max()
     cells = {}
-    for fault, (log, end) in imu_faults(clean_log, noise.field_n, noise.accel_sigma_m_s2, rng).items():
+    for fault, (log, end) in imu_faults(clean_log, noise.field_n, noise.accel_sigma_m_s2, rng, START, LENGTH).items():
         q = estimate(noise, log)
         ok = np.abs(np.linalg.norm(q, axis=1) - 1).max() < 1e-9
         cells[fault] = _cell(np.degrees(attitude_error(q, base.q_nb)), base.t, clean_peak, end, ok)
@@ -198,7 +162,7 @@ def fixedwing_column(factory):
     clean = np.degrees(attitude_error(estimate_fixedwing_attitude(clean_log, noise, factory).x[:, :4], flight.q_nb))
     clean_peak = clean[flight.t > 5.0].max()
     cells = {}
-    faults = imu_faults(clean_log, [1.0, 0.0, 0.0], noise.accel_sigma_m_s2, np.random.default_rng(7))
+    faults = imu_faults(clean_log, [1.0, 0.0, 0.0], noise.accel_sigma_m_s2, np.random.default_rng(7), START, LENGTH)
     for fault, (log, end) in faults.items():
         x = estimate_fixedwing_attitude(log, noise, factory).x
         ok = np.abs(np.linalg.norm(x[:, :4], axis=1) - 1).max() < 1e-9

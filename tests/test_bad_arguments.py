@@ -148,6 +148,7 @@ from quadlib.quad import (
 from quadlib.samples import Measurements
 from quadlib.sim import (
     BodyMotion,
+    imu_faults,
     imu_samples,
     min_jerk,
     piecewise_constant,
@@ -660,6 +661,10 @@ PROBES += [
                                                                              n_frames=2), strict=True), html_id="a"),
           {"anim": WRONG_TYPE, "html_id": st.sampled_from(["1a", "a-b", "", 3])}),
     Probe(show_source, lambda: dict(obj=show_source), {"obj": st.sampled_from([1.0, "x", None, np.sin])}),
+    Probe(imu_faults, lambda: dict(log=_imu_log(), field_n=[0.2, 0.0, 0.4], accel_sigma_m_s2=0.1,
+                                   rng=np.random.default_rng(0), start_s=0.5, length_s=0.5),
+          {"log": WRONG_TYPE, "field_n": BAD["vector3"], "accel_sigma_m_s2": POS, "rng": BAD["rng"],
+           "start_s": st.sampled_from([NAN, "1", 500.0]), "length_s": POS}),
 ]
 
 RESULT = "a result quadlib builds and returns (read it, do not build it)"

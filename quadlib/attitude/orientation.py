@@ -22,7 +22,7 @@ import numpy as np
 
 from quadlib.attitude.bias_model import attitude_bias_model, quaternion_rate_matrix
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
-from quadlib.constants import GRAVITY_N
+from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import body_vector, integrate_body_rate, quat_to_dcm, vector_jacobian
 from quadlib.geometry.rotations import wrap_angle
@@ -63,6 +63,9 @@ class OrientationParams:
     accel_tau_s : float or None
         Time constant [s] of the accelerometer's low-pass in the non-rotating frame
         (:func:`inertial_lowpass`; 3 s, VQF's default); None: the raw samples.
+    accel_shock_m_s2 : float or None
+        Samples whose norm is further than this from g₀ [m/s²] are left out of that low-pass
+        (50 m/s², about 5 g: shocks and taps, beyond the accelerations of handheld motion).
     """
 
     gyro_sigma_rad_s: float = 0.005
@@ -74,12 +77,14 @@ class OrientationParams:
     checks: SensorChecks = field(default_factory=SensorChecks)
     gyro_range_rad_s: float | None = None
     accel_tau_s: float | None = 3.0
+    accel_shock_m_s2: float | None = 50.0
 
     def __post_init__(self):
         check_fields(self, {"gyro_sigma_rad_s": "positive", "gyro_bias_walk_rad_s_sqrt_s": "positive",
                             "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
                             "initial_bias_sigma_rad_s": "positive", "gate_probability": "optional probability",
-                            "gyro_range_rad_s": "optional positive", "accel_tau_s": "optional positive"})
+                            "gyro_range_rad_s": "optional positive", "accel_tau_s": "optional positive",
+                            "accel_shock_m_s2": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
 
@@ -118,7 +123,7 @@ def heading_sensor(sigma_rad: float) -> Sensor:
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
 
 
-def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None) -> np.ndarray:
+def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: float | None = None) -> np.ndarray:
     """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
     body frame.
 
@@ -128,9 +133,11 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None) -> np.ndarray:
     average out, since its velocity stays bounded (VQF's idea, Laidig & Seel 2023, §3). The
     gyro's drift blurs the result: a bias ``b`` tilts the average by about ``|b| τ``, so
     ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. Missing samples hold
-    the average.
+    the average, and so do samples whose norm is more than ``shock_m_s2`` off g₀: a shock or a tap
+    lasts milliseconds but would shift the average for seconds.
     """
     tau = as_positive("tau_s", tau_s)
+    shock = None if shock_m_s2 is None else as_positive("shock_m_s2", shock_m_s2)
     gyro = log.gyro if gyro_bias is None else log.gyro - np.broadcast_to(as_finite_array("gyro_bias", gyro_bias),
                                                                           log.gyro.shape)
     out = np.full_like(log.accel, np.nan)
@@ -139,7 +146,7 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None) -> np.ndarray:
     for k in range(len(log)):
         R = quat_to_dcm(q, unit_tolerance=None)
         a = log.accel[k]
-        if not np.isnan(a).any():
+        if not np.isnan(a).any() and (shock is None or abs(np.linalg.norm(a) - G0) <= shock):
             a_i = R @ a
             dt = log.t[k] - log.t[k - 1] if k else 0.0
             mean = a_i if mean is None else mean + dt / (tau + dt) * (a_i - mean)
@@ -163,8 +170,9 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
     declination_rad = as_finite_number("declination_rad", declination_rad)
     if params.accel_tau_s is None:
         return _orientation_pass(log, params, declination_rad, log.accel)
-    first = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, params.accel_tau_s))
-    return _orientation_pass(log, params, declination_rad, inertial_lowpass(log, params.accel_tau_s, first.x[:, 4:]))
+    tau, shock = params.accel_tau_s, params.accel_shock_m_s2
+    first = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, shock_m_s2=shock))
+    return _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, first.x[:, 4:], shock))
 
 
 def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity) -> FilterRun:

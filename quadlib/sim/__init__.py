@@ -1,11 +1,13 @@
 """Simulation shared by every vehicle: model stepping, sensor sampling, trajectories, IMU samples."""
 
+from .faults import imu_faults
 from .imu import BodyMotion, imu_samples, specific_force_at_rest
 from .simulate import sample_sensor, simulate_model, with_dropouts, with_outliers
 from .trajectories import min_jerk, piecewise_constant, step_profile
 
 __all__ = [
     "BodyMotion",
+    "imu_faults",
     "imu_samples",
     "min_jerk",
     "piecewise_constant",
