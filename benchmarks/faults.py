@@ -184,7 +184,7 @@ def altitude_column():
     a_z = G0 - 5.0 * w**2 * np.sin(w * t) + rng.normal(0.0, sigma_a, t.size)
     k = np.arange(0, t.size, 10)
     baro_t, baro = t[k], s[k] + rng.normal(0.0, sigma_b, k.size)
-    sensor = replace(baro_altitude_sensor(sigma_b), reset_after_s=1.0)
+    sensor = replace(baro_altitude_sensor(sigma_b), reset_after_s=1.0, stuck_samples=5)
 
     def error(z, acc=a_z, target=s):
         kf = LinearKF(altitude_model(sigma_a, 1e-5, 16 * G0), [0.0, 0.0, G0], np.diag([1.0, 0.1, 0.01]), dt)

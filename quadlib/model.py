@@ -225,6 +225,10 @@ class Sensor:
         this [s], :func:`~quadlib.replay.run_filter` inflates the covariance
         along that group's directions by the discrepancy and accepts it again
         (a reset). ``None``: never (a gate can then lock the sensor out for good).
+    stuck_samples : int, optional
+        A sample equal to the ``n − 1`` present samples before it is a frozen sensor's and is
+        skipped like a missing one (:func:`~quadlib.samples.stuck_rows`). ``None``: never. Use it
+        only for sensors whose noise makes exact repeats impossible.
     """
 
     name: str
@@ -238,6 +242,7 @@ class Sensor:
     context_names: tuple[str, ...] = ()
     groups: tuple[tuple[int, ...], ...] = ()
     reset_after_s: float | None = None
+    stuck_samples: int | None = None
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -263,6 +268,9 @@ class Sensor:
         if self.reset_after_s is not None:
             object.__setattr__(self, "reset_after_s",
                                as_positive(f"Sensor({self.name!r}).reset_after_s", self.reset_after_s))
+        n = self.stuck_samples
+        if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2):
+            raise ValueError(f"Sensor({self.name!r}).stuck_samples: expected an int >= 2 or None, got {n!r}")
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

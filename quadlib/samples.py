@@ -15,7 +15,7 @@ import numpy as np
 from quadlib.model import Sensor
 from quadlib.validation import as_finite_array, as_float_array
 
-__all__ = ["Measurements", "Samples", "time_resolution"]
+__all__ = ["Measurements", "Samples", "stuck_rows", "time_resolution"]
 
 
 def time_resolution(t) -> float:
@@ -25,6 +25,22 @@ def time_resolution(t) -> float:
     if arr.dtype.kind != "f" or arr.size == 0 or not np.isfinite(arr).all():
         return 1e-9
     return max(1e-9, 4 * float(np.finfo(arr.dtype).eps) * float(np.max(np.abs(arr))))
+
+
+def stuck_rows(v, n: int) -> np.ndarray:
+    """``(N,)`` bool: the row is present and equal to the ``n − 1`` present rows before it (NaN rows
+    skipped): a sensor that froze and repeats its last reading. From the ``n``-th equal reading on."""
+    v = np.asarray(v, dtype=float)
+    v = v.reshape(len(v), -1)
+    present = np.flatnonzero(~np.isnan(v).any(axis=-1))
+    stuck = np.zeros(v.shape[0], bool)
+    if present.size < n:
+        return stuck
+    same = np.r_[False, (v[present[1:]] == v[present[:-1]]).all(axis=-1)]
+    index = np.arange(present.size)
+    run = index - np.maximum.accumulate(np.where(same, 0, index))  # equal readings before this one, in a row
+    stuck[present] = run >= n - 1
+    return stuck
 
 
 @dataclass(frozen=True)
@@ -121,6 +137,11 @@ class Measurements:
 
     @property
     def missing(self) -> np.ndarray:
-        """(K,) bool: the sample (or its context) has a NaN."""
+        """(K,) bool: the sample (or its context) has a NaN, or it repeats a frozen reading
+        (``sensor.stuck_samples``)."""
         bad = np.isnan(self.z).any(axis=1)
-        return bad if self.context is None else bad | np.isnan(self.context).any(axis=1)
+        if self.context is not None:
+            bad = bad | np.isnan(self.context).any(axis=1)
+        if self.sensor.stuck_samples is not None:
+            bad = bad | stuck_rows(np.where(bad[:, None], np.nan, self.z), self.sensor.stuck_samples)
+        return bad

@@ -395,7 +395,7 @@ PROBES += [
     Probe(Sensor, lambda: dict(name="pos", measurement_names=("p",), h=lambda x: x[:1], R=[[0.1]]),
           {"name": st.sampled_from(["", 3, None]), "measurement_names": st.sampled_from([(), "p", (1,)]),
            "h": st.sampled_from([1.0, "h", None]), "R": st.sampled_from([[[-1.0]], [[NAN]], np.eye(2), "R", None]),
-           "rate_hz": POS, "reset_after_s": POS}),
+           "rate_hz": POS, "reset_after_s": POS, "stuck_samples": st.sampled_from([1, 0, 1.5, "3", True])}),
     Probe(BodyMotion, lambda: dict(t=[0.0, 0.1], q_nb=[Q1, Q1], omega_b=np.zeros((2, 3)), f_b=np.zeros((2, 3))),
           {"t": BAD["times"], "q_nb": st.sampled_from([[Q1], [[NAN, 0, 0, 0], Q1], [[0.0, 0, 0, 0], Q1], "q"]),
            "omega_b": st.sampled_from([np.zeros((2, 2)), np.full((2, 3), INF), "w"]),

@@ -118,10 +118,10 @@ def test_the_fixedwing_filters_recover_from_every_imu_fault(factory, fault):
 
 
 def test_the_altitude_filter_recovers_from_barometer_faults():
-    """Outage, a persistent 20 m jump (followed: it is a new reference), 10σ spikes. Not a stuck
-    barometer: while it reads a constant, the filter puts the accelerometer's motion into its
-    gravity state g̃, and that error outlives the fault (7 m here 10 s later); nothing flags a
-    constant reading as a fault yet."""
+    """Outage, a stuck barometer, a persistent 20 m jump (followed: it is a new reference), 10σ
+    spikes. The stuck reading must be recognised (``stuck_samples``): taken as data, it makes the
+    filter put the accelerometer's motion into its gravity state g̃, and that error outlives the
+    fault (7 m here 10 s later)."""
     dt, w = 0.004, 2 * np.pi / 20.0
     t = np.arange(int(40.0 / dt) + 1) * dt
     s = 5.0 * np.sin(w * t)
@@ -129,7 +129,7 @@ def test_the_altitude_filter_recovers_from_barometer_faults():
     a_z = G0 - 5.0 * w**2 * np.sin(w * t) + rng.normal(0.0, 0.06, t.size)
     k = np.arange(0, t.size, 10)
     tz, baro = t[k], s[k] + rng.normal(0.0, 0.39, k.size)
-    sensor = replace(baro_altitude_sensor(0.39), reset_after_s=1.0)
+    sensor = replace(baro_altitude_sensor(0.39), reset_after_s=1.0, stuck_samples=5)
 
     def error(z, target=s):
         kf = LinearKF(altitude_model(0.06, 1e-5, 16 * G0), [0.0, 0.0, G0], np.diag([1.0, 0.1, 0.01]), dt)
@@ -138,11 +138,12 @@ def test_the_altitude_filter_recovers_from_barometer_faults():
 
     clean_peak = error(baro)[t > 5.0].max()
     window = (tz >= START) & (tz < START + 10.0)
-    outage, spikes = baro.copy(), baro.copy()
+    outage, stuck, spikes = baro.copy(), baro.copy(), baro.copy()
     outage[window] = np.nan
+    stuck[window] = stuck[np.flatnonzero(window)[0]]
     hit = window & (rng.random(tz.size) < 0.05)
     spikes[hit] += rng.normal(0.0, 10 * 0.39, hit.sum())
-    for z in (outage, spikes):
+    for z in (outage, stuck, spikes):
         assert error(z)[t >= START + 10.0 + SETTLE].max() <= 2.0 * clean_peak + 0.1
     jumped = s + np.where(t >= START, 20.0, 0.0)
     assert error(baro + np.where(tz >= START, 20.0, 0.0), jumped)[t >= START + SETTLE].max() <= 2.0 * clean_peak + 0.1

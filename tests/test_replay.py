@@ -222,3 +222,20 @@ def test_sensor_groups_must_partition_the_components():
     sub = s.subset([0, 2])
     np.testing.assert_array_equal(sub.h(np.array([1.0, 2.0, 3.0])), [2.0, 6.0])
     np.testing.assert_array_equal(sub.R, np.diag([1.0, 3.0]))
+
+
+def test_a_frozen_sensor_is_skipped_when_the_sensor_says_it_cannot_repeat():
+    from dataclasses import replace as _replace
+
+    from quadlib import ModelEKF, run_filter
+    from quadlib.quad.height import height_model, range_sensor
+
+    t = np.arange(50) * 0.1
+    z = 2.0 + np.random.default_rng(0).normal(0.0, 0.05, 50)
+    z[20:35] = z[20]  # frozen for 1.5 s
+    sensor = _replace(range_sensor(0.05), stuck_samples=3)
+    run = run_filter(ModelEKF(height_model(0.1), [2.0], [[1.0]], 0.1), t, np.zeros((50, 1)),
+                     [Measurements(sensor, t, z[:, None])])
+    assert run.sensors["range"].missing.tolist() == [False] * 22 + [True] * 13 + [False] * 15
+    with pytest.raises(ValueError, match=r"stuck_samples: expected an int >= 2 or None, got 1"):
+        _replace(range_sensor(0.05), stuck_samples=1)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.constants import G0
+from quadlib.samples import stuck_rows
 from quadlib.validation import as_float_array, as_instance, as_vectors3, check_fields
 
 __all__ = ["SensorChecks", "plausible_accel", "plausible_mag"]
@@ -101,18 +102,5 @@ def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
             reference_dip = np.arcsin(field[2] / strength)
             ok &= ~down_known | (np.abs(dip - reference_dip) <= checks.mag_dip_tolerance_rad)
     if checks.mag_stuck_samples is not None:
-        ok &= ~_stuck(m, checks.mag_stuck_samples)
+        ok &= ~stuck_rows(m, checks.mag_stuck_samples)
     return ok
-
-
-def _stuck(v: np.ndarray, n: int) -> np.ndarray:
-    """``(N,)`` bool: the present row equals the ``n − 1`` present rows before it (NaN rows skipped)."""
-    present = np.flatnonzero(~np.isnan(v).any(axis=-1))
-    stuck = np.zeros(v.shape[0], bool)
-    if present.size < n:
-        return stuck
-    same = np.r_[False, (v[present[1:]] == v[present[:-1]]).all(axis=-1)]
-    index = np.arange(present.size)
-    run = index - np.maximum.accumulate(np.where(same, 0, index))  # equal readings before this one, in a row
-    stuck[present] = run >= n - 1
-    return stuck
