@@ -46,7 +46,7 @@ from quadlib.fixedwing import (
 )
 from quadlib.quad import Quad3DTuning, SensorNoise3D, figure_eight, quad3d_ukf_options, simulate_run3d
 from quadlib.samples import Measurements
-from quadlib.sim import imu_faults, imu_samples
+from quadlib.sim import imu_faults, imu_samples, vertical_sine
 
 START, LENGTH = 10.0, 2.0  # default fault window [s]
 
@@ -176,14 +176,10 @@ def fixedwing_column(factory):
 
 def altitude_column():
     """Kesten's altitude KF: a vertical sine (±5 m, 20 s period), a_z at 250 Hz, baro at 25 Hz."""
-    dt, sigma_a, sigma_b = 0.004, 0.06, 0.39
-    t = np.arange(int(60.0 / dt) + 1) * dt
-    w = 2 * np.pi / 20.0
-    s = 5.0 * np.sin(w * t)
+    sigma_a, sigma_b = 0.06, 0.39
     rng = np.random.default_rng(9)
-    a_z = G0 - 5.0 * w**2 * np.sin(w * t) + rng.normal(0.0, sigma_a, t.size)
-    k = np.arange(0, t.size, 10)
-    baro_t, baro = t[k], s[k] + rng.normal(0.0, sigma_b, k.size)
+    t, s, a_z, samples = vertical_sine(60.0, rng, accel_sigma_m_s2=sigma_a, baro_sigma_m=sigma_b)
+    dt, baro_t, baro = t[1] - t[0], samples.t, samples.z
     sensor = replace(baro_altitude_sensor(sigma_b), reset_after_s=1.0, stuck_samples=5)
 
     def error(z, acc=a_z, target=s):

@@ -156,6 +156,7 @@ from quadlib.sim import (
     simulate_model,
     specific_force_at_rest,
     step_profile,
+    vertical_sine,
     with_dropouts,
     with_outliers,
 )
@@ -661,6 +662,9 @@ PROBES += [
                                                                              n_frames=2), strict=True), html_id="a"),
           {"anim": WRONG_TYPE, "html_id": st.sampled_from(["1a", "a-b", "", 3])}),
     Probe(show_source, lambda: dict(obj=show_source), {"obj": st.sampled_from([1.0, "x", None, np.sin])}),
+    Probe(vertical_sine, lambda: dict(duration_s=1.0, rng=np.random.default_rng(0)),
+          {"duration_s": POS, "rng": BAD["rng"], "amplitude_m": FIN, "period_s": POS, "dt": POS,
+           "accel_sigma_m_s2": POS, "baro_sigma_m": POS, "baro_every": COUNT}),
     Probe(imu_faults, lambda: dict(log=_imu_log(), field_n=[0.2, 0.0, 0.4], accel_sigma_m_s2=0.1,
                                    rng=np.random.default_rng(0), start_s=0.5, length_s=0.5),
           {"log": WRONG_TYPE, "field_n": BAD["vector3"], "accel_sigma_m_s2": POS, "rng": BAD["rng"],
@@ -671,7 +675,7 @@ RESULT = "a result quadlib builds and returns (read it, do not build it)"
 NOT_PROBED = {
     "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,
-    "MonteCarloRuns": RESULT, "Run3D": RESULT, "SensorTrace": RESULT,
+    "MonteCarloRuns": RESULT, "Run3D": RESULT, "SensorTrace": RESULT, "VerticalRun": RESULT,
     "ModelFilter": "the abstract base of LinearKF, ModelEKF and ModelUKF (probed)",
     "broad_trial_names": "no arguments", "search_dirs": "no arguments", "quad3d_ukf_options": "no arguments",
 }

@@ -32,7 +32,7 @@ from quadlib.fixedwing import (
     salmony_ekf,
 )
 from quadlib.samples import Measurements
-from quadlib.sim import imu_faults, imu_samples
+from quadlib.sim import imu_faults, imu_samples, vertical_sine
 
 START, LENGTH, SETTLE = 8.0, 2.0, 10.0
 
@@ -122,13 +122,9 @@ def test_the_altitude_filter_recovers_from_barometer_faults():
     spikes. The stuck reading must be recognised (``stuck_samples``): taken as data, it makes the
     filter put the accelerometer's motion into its gravity state g̃, and that error outlives the
     fault (7 m here 10 s later)."""
-    dt, w = 0.004, 2 * np.pi / 20.0
-    t = np.arange(int(40.0 / dt) + 1) * dt
-    s = 5.0 * np.sin(w * t)
     rng = np.random.default_rng(9)
-    a_z = G0 - 5.0 * w**2 * np.sin(w * t) + rng.normal(0.0, 0.06, t.size)
-    k = np.arange(0, t.size, 10)
-    tz, baro = t[k], s[k] + rng.normal(0.0, 0.39, k.size)
+    t, s, a_z, samples = vertical_sine(40.0, rng)
+    dt, tz, baro = t[1] - t[0], samples.t, samples.z
     sensor = replace(baro_altitude_sensor(0.39), reset_after_s=1.0, stuck_samples=5)
 
     def error(z, target=s):

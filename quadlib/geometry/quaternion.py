@@ -227,14 +227,7 @@ def body_vector(q, v_n) -> np.ndarray:
     """``R(q)ᵀ v_n``, ``(3,)``: an earth-frame vector seen in the body frame of one quaternion ``q``,
     written as a homogeneous quadratic in ``q`` (its length scales with ``|q|²``; for a unit ``q``
     it is the rotated vector). The measurement model of a gravity or field sensor."""
-    return _dcm_homogeneous(_one_quaternion("q", q)).T @ as_vector("v_n", v_n, 3)
-
-
-def _one_quaternion(name: str, q) -> np.ndarray:
-    q = as_vector(name, q, 4)
-    if not q.any():
-        raise ValueError(f"{name}: expected a non-zero quaternion, got {q.tolist()}")
-    return q
+    return _dcm_homogeneous(_nonzero("q", as_vector("q", q, 4))).T @ as_vector("v_n", v_n, 3)
 
 
 def vector_jacobian(q, v_n) -> np.ndarray:
@@ -243,5 +236,5 @@ def vector_jacobian(q, v_n) -> np.ndarray:
     ``R(q)ᵀ v`` is a homogeneous quadratic in ``q``, so a central difference with unit steps is
     exact: column ``j`` is ``(f(q + e_j) − f(q − e_j)) / 2``.
     """
-    q, v = _one_quaternion("q", q), as_vector("v_n", v_n, 3)
+    q, v = _nonzero("q", as_vector("q", q, 4)), as_vector("v_n", v_n, 3)
     return np.column_stack([_dcm_homogeneous(q + e).T @ v - _dcm_homogeneous(q - e).T @ v for e in np.eye(4)]) / 2.0

@@ -3,10 +3,11 @@
 from .faults import imu_faults
 from .imu import BodyMotion, imu_samples, specific_force_at_rest
 from .simulate import sample_sensor, simulate_model, with_dropouts, with_outliers
-from .trajectories import min_jerk, piecewise_constant, step_profile
+from .trajectories import VerticalRun, min_jerk, piecewise_constant, step_profile, vertical_sine
 
 __all__ = [
     "BodyMotion",
+    "VerticalRun",
     "imu_faults",
     "imu_samples",
     "min_jerk",
@@ -15,6 +16,7 @@ __all__ = [
     "simulate_model",
     "specific_force_at_rest",
     "step_profile",
+    "vertical_sine",
     "with_dropouts",
     "with_outliers",
 ]

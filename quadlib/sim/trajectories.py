@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from quadlib.validation import as_finite_array, as_finite_number
+from quadlib.constants import G0
+from quadlib.samples import Samples
+from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_rng
 
-__all__ = ["min_jerk", "piecewise_constant", "step_profile"]
+__all__ = ["VerticalRun", "min_jerk", "piecewise_constant", "step_profile", "vertical_sine"]
 
 
 def step_profile(t, t_step: float, before: float, after: float) -> np.ndarray:
@@ -66,3 +70,34 @@ def min_jerk(s) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     (all zero at both ends): ``10 s³ − 15 s⁴ + 6 s⁵``. Values outside [0, 1] are clipped."""
     s = np.clip(as_finite_array("s", s), 0.0, 1.0)
     return 10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4, 60 * s - 180 * s**2 + 120 * s**3
+
+
+class VerticalRun(NamedTuple):
+    """A vertical motion: times ``t`` [s], true altitude [m, up], the up specific force ``a_z``
+    [m/s²] an accelerometer reads (about +g₀ at rest, with noise), and barometer samples [m]."""
+
+    t: np.ndarray
+    altitude_m: np.ndarray
+    a_z: np.ndarray
+    baro: Samples
+
+
+def vertical_sine(duration_s: float, rng, amplitude_m: float = 5.0, period_s: float = 20.0,
+                  dt: float = 0.004, accel_sigma_m_s2: float = 0.06, baro_sigma_m: float = 0.39,
+                  baro_every: int = 10) -> VerticalRun:
+    """Altitude ``A sin(2π t / T)`` sampled every ``dt``, with the accelerometer's up specific force
+    ``g₀ + s̈`` and a barometer every ``baro_every`` samples (Kesten's sensors by default: 250 Hz,
+    σ 0.06 m/s²; 25 Hz, σ 0.39 m). The noise is drawn accelerometer first, then barometer."""
+    rng = as_rng(rng)
+    dt = as_positive("dt", dt)
+    t = np.arange(int(as_positive("duration_s", duration_s) / dt) + 1) * dt
+    w = 2 * np.pi / as_positive("period_s", period_s)
+    amplitude = as_finite_number("amplitude_m", amplitude_m)
+    altitude = amplitude * np.sin(w * t)
+    a_z = G0 - amplitude * w**2 * np.sin(w * t) + rng.normal(0.0, as_positive("accel_sigma_m_s2", accel_sigma_m_s2),
+                                                              t.size)
+    if isinstance(baro_every, bool) or not isinstance(baro_every, (int, np.integer)) or baro_every < 1:
+        raise ValueError(f"baro_every: expected an int >= 1, got {baro_every!r}")
+    k = np.arange(0, t.size, baro_every)
+    baro = altitude[k] + rng.normal(0.0, as_positive("baro_sigma_m", baro_sigma_m), k.size)
+    return VerticalRun(t, altitude, a_z, Samples(t[k], baro))

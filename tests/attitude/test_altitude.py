@@ -12,6 +12,7 @@ from quadlib.attitude.altitude import (
 )
 from quadlib.constants import G0
 from quadlib.geometry.quaternion import quat_from_euler, quat_to_dcm
+from quadlib.sim.trajectories import vertical_sine
 
 
 def test_transition_is_eq_2_68_and_integrates_constant_acceleration_exactly():
@@ -63,18 +64,13 @@ def test_barometric_formula_and_its_rounded_inverse():
 def test_a_clipped_accelerometer_sample_adds_uncertainty_and_the_barometer_takes_over():
     """A 50 ms, 30 g shock read as 16 g (the full scale) over a vertical sine: the integrated
     speed is 7 m/s off. Knowing the range, the filter widens its variance in those steps."""
-    rng = np.random.default_rng(9)
-    dt, w = 0.004, 2 * np.pi / 20.0
-    t = np.arange(int(40.0 / dt) + 1) * dt
-    s = 5.0 * np.sin(w * t)
-    a_z = G0 - 5.0 * w**2 * np.sin(w * t) + rng.normal(0.0, 0.06, t.size)
+    t, s, a_z, samples = vertical_sine(40.0, np.random.default_rng(9))
     shock = (t >= 10.0) & (t < 10.05)
     a_z[shock] = np.clip(a_z[shock] + 30 * G0, -16 * G0, 16 * G0)
-    k = np.arange(0, t.size, 10)
-    baro = Measurements(baro_altitude_sensor(0.39), t[k], (s[k] + rng.normal(0.0, 0.39, k.size))[:, None])
+    baro = Measurements(baro_altitude_sensor(0.39), samples.t, samples.z[:, None])
     errors = {}
     for full_scale in (None, 16 * G0):
-        kf = LinearKF(altitude_model(0.06, 1e-5, full_scale), [0.0, 0.0, G0], np.diag([1.0, 0.1, 0.01]), dt)
+        kf = LinearKF(altitude_model(0.06, 1e-5, full_scale), [0.0, 0.0, G0], np.diag([1.0, 0.1, 0.01]), t[1] - t[0])
         errors[full_scale] = np.abs(run_filter(kf, t, a_z[:, None], [baro], gate_probability=0.99).x[:, 0] - s)
     assert errors[16 * G0][t >= 10.0].max() < 2.0 and errors[16 * G0][t >= 12.0].max() < 0.5
     assert errors[None][t >= 10.0].max() > 5.0
