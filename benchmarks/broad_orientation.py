@@ -35,7 +35,7 @@ def _estimators(log):
     Ts = float(np.median(log.dt))
     gyr, acc, mag = (np.ascontiguousarray(a, dtype=float) for a in (log.gyro, log.accel, log.mag))
     return {
-        "quadlib MEKF": lambda: estimate_orientation(log).x[:, :4],
+        "quadlib MEKF": lambda: estimate_orientation(log),
         "VQF": lambda: quat_multiply(ENU_TO_NED, VQF(Ts).updateBatch(gyr, acc, mag)["quat9D"]),
         "BasicVQF": lambda: quat_multiply(ENU_TO_NED, BasicVQF(Ts).updateBatch(gyr, acc, mag)["quat9D"]),
         "offline VQF": lambda: quat_multiply(ENU_TO_NED, offlineVQF(gyr, acc, mag, Ts)["quat9D"]),

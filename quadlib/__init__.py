@@ -24,10 +24,10 @@ scalar first, noise given as standard deviations, every random function takes a
 from quadlib.filters import LinearKF, ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import Innovation, ModelFilter
-from quadlib.replay import FilterDivergedError, FilterRun, SensorTrace, run_filter
+from quadlib.replay import FilterDivergedError, FilterRun, SensorTrace, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples
 
 __version__ = "0.1.0"
 
 __all__ = ["FilterDivergedError", "FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF",
-           "ModelFilter", "ModelUKF", "Samples", "Sensor", "SensorTrace", "run_filter"]
+           "ModelFilter", "ModelUKF", "Samples", "Sensor", "SensorTrace", "rts_smooth", "run_filter"]

@@ -20,7 +20,7 @@ import numpy as np
 
 from quadlib.validation import as_float_array, as_positive, as_times, check_fields
 
-__all__ = ["ImuLog", "ImuNoise", "gyro_saturation_noise", "saturated_step_variance"]
+__all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_saturation_noise", "saturated_step_variance"]
 
 
 @dataclass(frozen=True)
@@ -95,17 +95,19 @@ def gyro_saturation_noise(gyro_range_rad_s: float | None, scale):
 
 
 
-def _stream(name: str, value, n: int, width: int | None) -> np.ndarray | None:
-    if value is None:
-        if name in ("gyro", "accel"):
-            raise TypeError(f"ImuLog.{name}: expected an (N, 3) array, got None")
-        return None
-    arr = np.array(as_float_array(f"ImuLog.{name}", value))  # a copy: the log is frozen, the caller's is not
+def as_imu_stream(name: str, value, n: int, width: int | None = 3, required: bool = True) -> np.ndarray | None:
+    """One IMU stream as a read-only ``(n, width)`` (or ``(n,)``) float copy, NaN rows allowed
+    (missing samples), or a named error; ``None`` passes when the stream is not ``required``."""
     shape = (n,) if width is None else (n, width)
+    if value is None:
+        if required:
+            raise TypeError(f"{name}: expected an array of shape {shape}, got None")
+        return None
+    arr = np.array(as_float_array(name, value))  # a copy: the log is frozen, the caller's is not
     if arr.shape != shape:
-        raise ValueError(f"ImuLog.{name}: expected shape {shape}, got {arr.shape}")
+        raise ValueError(f"{name}: expected shape {shape}, got {arr.shape}")
     if np.isinf(arr).any():
-        raise ValueError(f"ImuLog.{name}: expected finite values or NaN for missing, got inf")
+        raise ValueError(f"{name}: expected finite values or NaN for missing, got inf")
     arr.setflags(write=False)
     return arr
 
@@ -140,7 +142,8 @@ class ImuLog:
         object.__setattr__(self, "t", t)
         n = t.size
         for name, width in (("gyro", 3), ("accel", 3), ("mag", 3), ("airspeed", None)):
-            object.__setattr__(self, name, _stream(name, getattr(self, name), n, width))
+            object.__setattr__(self, name, as_imu_stream(f"ImuLog.{name}", getattr(self, name), n, width,
+                                                         required=name in ("gyro", "accel")))
 
     def __len__(self) -> int:
         return self.t.size

@@ -27,11 +27,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from quadlib.model import Model
 from quadlib.model_filter import ModelFilter, group_gates
 from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_float_array, as_probability, as_times
 
-__all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "run_filter"]
+__all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "rts_smooth", "run_filter"]
 
 
 @dataclass(frozen=True)
@@ -227,6 +228,66 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
             "check the model, Q, R and the inputs (the error's .run holds the estimates before it)",
             index=k, run=_first(run, k))
     return run
+
+
+def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
+    r"""The Rauch–Tung–Striebel backward pass over a forward run: each estimate also uses the
+    samples after it.
+
+    The forward run kept the posteriors ``x_k, P_k``; the prior of the next step is recomputed
+    from the model, ``x⁻ = g(x_k, u_k, Δt)``, ``P⁻ = F P_k Fᵀ + Q`` (``F = G(x_k, u_k, Δt)``, ``Q``
+    with the model's input noise). Backwards from the last step, with the gain
+    ``C_k = P_k Fᵀ (P⁻)⁻¹``:
+
+    .. math:: \delta_k = C_k\,(x^s_{k+1} \boxminus x^-), \quad x^s_k = x_k \boxplus \delta_k, \quad
+              P^s_k = P_k + C_k (P^s_{k+1} - P^-) C_k^T
+
+    For an additive model ⊞ and ⊟ are + and −; for an error-state model they are the model's
+    ``state_add`` and ``residual_x``, so the correction is carried in the error coordinates the
+    covariances are written in (the error at ``k`` is defined about the forward estimate ``x_k``).
+
+    Parameters
+    ----------
+    model : Model
+        The model the forward run used (with ``G``).
+    run : FilterRun
+        The forward run, from :func:`run_filter`.
+    u : (N, m) array_like, or None when the model has no input
+        The inputs the forward run was given (NaN rows held as there).
+
+    Returns
+    -------
+    FilterRun
+        ``x`` and ``P`` smoothed; the sensor traces are the forward run's.
+    """
+    if not isinstance(model, Model):
+        raise TypeError(f"model: expected a Model, got {type(model).__name__}")
+    if model.G is None:
+        raise ValueError(f"model: expected a model with a Jacobian G for the backward pass, got {model.name!r} without")
+    if not isinstance(run, FilterRun):
+        raise TypeError(f"run: expected a FilterRun from run_filter, got {type(run).__name__}")
+    N = run.t.shape[0]
+    if run.x.shape[1:] != (model.dim_x,) or run.P.shape[1:] != (model.dim_P, model.dim_P):
+        raise ValueError(f"run: expected states of {model.dim_x} and covariances of {model.dim_P}² for model "
+                         f"{model.name!r}, got {run.x.shape[1:]} and {run.P.shape[1:]}")
+    u, _ = _held_inputs(model, u, N)
+    add = model.state_add if model.is_error_state else np.add
+    diff = model.residual_x if model.is_error_state else np.subtract
+    xs, Ps = run.x.copy(), run.P.copy()
+    for k in range(N - 2, -1, -1):
+        dt = float(run.t[k + 1] - run.t[k])
+        x, P, uk = run.x[k], run.P[k], u[k] if model.dim_u else None
+        F = np.asarray(model.G(x, uk, dt), dtype=float)
+        prior_P = F @ P @ F.T + model.Q(dt)
+        extra = None if model.input_noise is None else model.input_noise(uk, dt)
+        if extra is not None:
+            prior_P = prior_P + extra
+        C = np.linalg.solve(prior_P, F @ P).T  # P Fᵀ (P⁻)⁻¹, P⁻ symmetric
+        x_s = add(x, C @ diff(xs[k + 1], np.asarray(model.g(x, uk, dt), dtype=float)))
+        xs[k] = x_s if model.normalize is None else model.normalize(x_s)
+        P_s = P + C @ (Ps[k + 1] - prior_P) @ C.T
+        Ps[k] = 0.5 * (P_s + P_s.T)
+    return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input)
 
 
 class FilterDivergedError(FloatingPointError):

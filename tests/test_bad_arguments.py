@@ -24,7 +24,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Samples, Sensor, run_filter
+from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Samples, Sensor, rts_smooth, run_filter
 from quadlib.analysis import (
     angle_rmse,
     attitude_rmse,
@@ -58,6 +58,7 @@ from quadlib.attitude import (
     nonlinear_complementary,
     normalize_attitude,
     normalize_attitude_jacobian,
+    orientation_run,
     plausible_accel,
     plausible_mag,
     pressure_from_altitude,
@@ -200,6 +201,7 @@ BAD = {
     "rng": st.sampled_from(["seed", 1.5, [1, 2], object()]),
     "state2": st.sampled_from([[1.0], [1.0, 2.0, 3.0], [NAN, 0.0], [INF, 0.0], "x", None]),
     "angles or NaN": st.sampled_from([INF, -INF, [0.0, INF], "a", None]),
+    "imu stream": st.sampled_from([np.zeros((99, 3)), np.zeros((100, 2)), np.full((100, 3), INF), "g", None]),
 }
 
 
@@ -254,6 +256,8 @@ PROBES = [
     Probe(run_filter, _run_filter_args,
           {"filt": WRONG_TYPE, "t": BAD["times"], "u": st.sampled_from([np.zeros((4, 1)), np.zeros((5, 2)), "u"]),
            "measurements": st.sampled_from([[1.0], ["gps"], 3.0]), "gate_probability": BAD["probability"]}),
+    Probe(rts_smooth, lambda: dict(model=_cv_model(), run=run_filter(**_run_filter_args()), u=np.zeros((5, 1))),
+          {"model": _wrong_type(Model), "run": WRONG_TYPE, "u": st.sampled_from([np.zeros((4, 1)), "u"])}),
     Probe(Samples, lambda: dict(t=[0.0, 0.1], z=[[1.0], [2.0]]),
           {"t": BAD["times"], "z": st.sampled_from([[[1.0]], [1.0, 2.0, 3.0], "z", [[INF], [0.0]]])}),
     Probe(Measurements, lambda: dict(sensor=_position_sensor(), t=[0.0, 0.1], z=[[1.0], [2.0]]),
@@ -330,8 +334,15 @@ PROBES = [
           {"noise": _wrong_type(AttitudeNoise), "sigma0_rad": BAD["positive"], "checks": WRONG_TYPE}),
     Probe(run_attitude_filter, lambda: dict(filt=qkf(AttitudeNoise()), log=_imu_log()),
           {"filt": WRONG_TYPE, "log": WRONG_TYPE, "q0": BAD["quaternion"]}),
-    Probe(estimate_orientation, lambda: dict(log=_imu_log(), params=OrientationParams()),
-          {"log": WRONG_TYPE, "params": _wrong_type(OrientationParams), "declination_rad": BAD["finite"]}),
+    Probe(estimate_orientation, lambda: dict(t=_imu_log().t, gyr=_imu_log().gyro, acc=_imu_log().accel,
+                                             mag=_imu_log().mag, params=OrientationParams()),
+          {"t": BAD["times"], "gyr": BAD["imu stream"], "acc": BAD["imu stream"],
+           "mag": st.sampled_from([np.zeros((99, 3)), np.full((100, 3), INF), "m"]),
+           "params": _wrong_type(OrientationParams).filter(lambda v: v is not None), "offline": WRONG_TYPE,
+           "declination_rad": BAD["finite"]}),
+    Probe(orientation_run, lambda: dict(log=_imu_log(), params=OrientationParams()),
+          {"log": WRONG_TYPE, "params": _wrong_type(OrientationParams), "offline": WRONG_TYPE,
+           "declination_rad": BAD["finite"]}),
     Probe(estimate_fixedwing_attitude,
           lambda: dict(log=fixedwing_samples(fixedwing_flight(rate_hz=10.0), FixedWingNoise(),
                                              np.random.default_rng(0)).slice(0, 60), noise=FixedWingNoise()),

@@ -239,3 +239,41 @@ def test_a_frozen_sensor_is_skipped_when_the_sensor_says_it_cannot_repeat():
     assert run.sensors["range"].missing.tolist() == [False] * 22 + [True] * 13 + [False] * 15
     with pytest.raises(ValueError, match=r"stuck_samples: expected an int >= 2 or None, got 1"):
         _replace(range_sensor(0.05), stuck_samples=1)
+
+
+def test_rts_smooth_equals_filterpys_smoother_on_a_linear_model():
+    from filterpy.kalman import KalmanFilter
+
+    from quadlib import LinearKF, Model, Sensor, rts_smooth
+
+    dt, q = 0.1, 0.5
+    F = np.array([[1.0, dt], [0.0, 1.0]])
+    Q = q * np.array([[dt**3 / 3, dt**2 / 2], [dt**2 / 2, dt]])
+    model = Model(state_names=("s [m]", "v [m/s]"), input_names=(), g=lambda x, u, dt: F @ x,
+                  G=lambda x, u, dt: F, B=lambda x, u, dt: np.zeros((2, 0)), Q=lambda dt: Q)
+    sensor = Sensor(name="position", measurement_names=("s [m]",), h=lambda x: x[:1],
+                    H=lambda x: np.array([[1.0, 0.0]]), R=np.array([[0.4]]))
+    rng = np.random.default_rng(1)
+    t = dt * np.arange(200)
+    z = (np.cumsum(rng.normal(0.0, 0.3, t.size)) + rng.normal(0.0, 0.6, t.size)).reshape(-1, 1)
+    x0, P0 = np.array([0.0, 0.0]), np.diag([1.0, 4.0])
+    run = run_filter(LinearKF(model, x0, P0, dt), t, None, [Measurements(sensor, t[1:], z[1:])])
+    smoothed = rts_smooth(model, run, None)
+
+    kf = KalmanFilter(dim_x=2, dim_z=1)
+    kf.x, kf.P, kf.F, kf.Q, kf.H, kf.R = x0.reshape(-1, 1), P0.copy(), F, Q, sensor.H(x0), sensor.R
+    means, covs, _, _ = kf.batch_filter(z[1:])
+    ref_x, ref_P, _, _ = kf.rts_smoother(means, covs)
+    np.testing.assert_allclose(run.x[1:], means[:, :, 0], atol=1e-10)
+    np.testing.assert_allclose(smoothed.x[1:], ref_x[:, :, 0], atol=1e-9)
+    np.testing.assert_allclose(smoothed.P[1:], ref_P, atol=1e-9)
+    assert np.array_equal(smoothed.x[-1], run.x[-1])  # the last step has nothing after it
+    assert (smoothed.P[1:-1, 0, 0] < run.P[1:-1, 0, 0]).all()
+
+
+def test_rts_smooth_names_a_wrong_run():
+    from quadlib import rts_smooth
+
+    model = height_model(0.2)
+    with pytest.raises(TypeError, match="run: expected a FilterRun"):
+        rts_smooth(model, np.zeros((3, 1)), None)

@@ -22,7 +22,7 @@ from .bias_model import (
 from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
-from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor
+from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor, orientation_run
 from .tumble import random_rotation, with_spin
 
 __all__ = [
@@ -49,6 +49,7 @@ __all__ = [
     "heading_sensor",
     "linear_complementary",
     "nonlinear_complementary",
+    "orientation_run",
     "normalize_attitude",
     "normalize_attitude_jacobian",
     "plausible_accel",

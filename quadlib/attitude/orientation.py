@@ -27,13 +27,13 @@ from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import body_vector, integrate_body_rate, quat_to_dcm, vector_jacobian
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
-from quadlib.imu import ImuLog
+from quadlib.imu import ImuLog, as_imu_stream
 from quadlib.model import Sensor
-from quadlib.replay import FilterRun, run_filter
+from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, check_fields
+from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
-__all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor"]
+__all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run"]
 
 
 @dataclass(frozen=True)
@@ -123,7 +123,8 @@ def heading_sensor(sigma_rad: float) -> Sensor:
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
 
 
-def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: float | None = None) -> np.ndarray:
+def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: float | None = None,
+                     two_sided: bool = False) -> np.ndarray:
     """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
     body frame.
 
@@ -135,31 +136,87 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: floa
     ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. Missing samples hold
     the average, and so do samples whose norm is more than ``shock_m_s2`` off g₀: a shock or a tap
     lasts milliseconds but would shift the average for seconds.
+
+    ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
+    in time, a symmetric window around each sample that does not lag.
     """
     tau = as_positive("tau_s", tau_s)
     shock = None if shock_m_s2 is None else as_positive("shock_m_s2", shock_m_s2)
     gyro = log.gyro if gyro_bias is None else log.gyro - np.broadcast_to(as_finite_array("gyro_bias", gyro_bias),
                                                                           log.gyro.shape)
-    out = np.full_like(log.accel, np.nan)
+    usable = ~np.isnan(log.accel).any(axis=1)
+    if shock is not None:
+        usable &= np.abs(np.linalg.norm(np.nan_to_num(log.accel), axis=1) - G0) <= shock
+    forward = _lowpass_pass(log.t, gyro, log.accel, usable, tau, range(len(log)))
+    if not two_sided:
+        return forward
+    backward = _lowpass_pass(log.t, gyro, log.accel, usable, tau, range(len(log) - 1, -1, -1))
+    both = 0.5 * (forward + backward)
+    return np.where(np.isnan(forward), backward, np.where(np.isnan(backward), forward, both))
+
+
+def _lowpass_pass(t, gyro, accel, usable, tau, order) -> np.ndarray:
+    """One direction of :func:`inertial_lowpass`: ``order`` runs over the sample indices forwards
+    or backwards; the frame is integrated from the gyro over each step either way."""
+    out = np.full_like(accel, np.nan)
     q = np.array([1.0, 0.0, 0.0, 0.0])
-    mean = None
-    for k in range(len(log)):
+    mean, previous = None, None
+    for k in order:
+        if previous is not None:  # turn the frame from the previous sample to this one
+            step = t[k] - t[previous]
+            q = integrate_body_rate(q, gyro[min(k, previous)], step) if step > 0 else \
+                integrate_body_rate(q, -gyro[k], -step)
         R = quat_to_dcm(q, unit_tolerance=None)
-        a = log.accel[k]
-        if not np.isnan(a).any() and (shock is None or abs(np.linalg.norm(a) - G0) <= shock):
-            a_i = R @ a
-            dt = log.t[k] - log.t[k - 1] if k else 0.0
+        if usable[k]:
+            a_i = R @ accel[k]
+            dt = abs(t[k] - t[previous]) if previous is not None else 0.0
             mean = a_i if mean is None else mean + dt / (tau + dt) * (a_i - mean)
         if mean is not None:
             out[k] = R.T @ mean
-        if k + 1 < len(log):
-            q = integrate_body_rate(q, gyro[k], log.t[k + 1] - log.t[k])
+        previous = k
     return out
 
 
-def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationParams(),
-                         declination_rad: float = 0.0) -> FilterRun:
-    """``q_nb`` and the gyro bias of an IMU over a log: ``run.x[:, :4]`` is the attitude (sensor → NED).
+def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationParams | None = None, *,
+                         offline: bool = False, declination_rad: float = 0.0) -> np.ndarray:
+    """``q_nb`` (N, 4), scalar first, sensor → NED, of an IMU at every sample: the one-call API.
+
+    Parameters
+    ----------
+    t : (N,) array_like or ImuLog
+        Sample times [s]; or an :class:`~quadlib.imu.ImuLog`, and then no ``gyr``, ``acc``, ``mag``.
+    gyr, acc : (N, 3) array_like
+        Gyro [rad/s] and accelerometer [m/s²] in the sensor frame; NaN rows are missing samples.
+    mag : (N, 3) array_like, optional
+        Magnetometer (any unit: only its direction is used); without it the heading is the gyro's.
+    params : OrientationParams, optional
+        The tuned defaults when None.
+    offline : bool
+        Smooth the forward estimate with a backward pass (:func:`~quadlib.replay.rts_smooth`):
+        each sample's attitude then also uses what came after it. For post-flight analysis.
+    declination_rad : float
+        Where magnetic north is, east of true north [rad].
+    """
+    if isinstance(t, ImuLog):
+        if gyr is not None or acc is not None or mag is not None:
+            raise TypeError("gyr, acc, mag: expected none of them with an ImuLog as t, got "
+                            f"{[k for k, v in (('gyr', gyr), ('acc', acc), ('mag', mag)) if v is not None]}")
+        log = t
+    else:
+        t = as_times("t", t)
+        n = t.size
+        log = ImuLog(t, as_imu_stream("gyr", gyr, n), as_imu_stream("acc", acc, n),
+                     as_imu_stream("mag", mag, n, required=False))
+    run = orientation_run(log, OrientationParams() if params is None else params, offline=offline,
+                          declination_rad=declination_rad)
+    return run.x[:, :4]
+
+
+def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams(), *, offline: bool = False,
+                    declination_rad: float = 0.0) -> FilterRun:
+    """The filter run behind :func:`estimate_orientation`: ``run.x`` is ``[q_nb, b]`` per sample
+    (attitude and gyro bias [rad/s]), ``run.P`` the covariance of ``[δθ, δb]``, ``run.sensors`` what
+    each update did (the forward pass's, also when ``offline``).
 
     Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
     """
@@ -167,15 +224,20 @@ def estimate_orientation(log: ImuLog, params: OrientationParams = OrientationPar
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
+    if not isinstance(offline, bool):
+        raise TypeError(f"offline: expected True or False, got {offline!r}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
     if params.accel_tau_s is None:
-        return _orientation_pass(log, params, declination_rad, log.accel)
-    tau, shock = params.accel_tau_s, params.accel_shock_m_s2
-    first = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, shock_m_s2=shock))
-    return _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, first.x[:, 4:], shock))
+        run, model = _orientation_pass(log, params, declination_rad, log.accel)
+    else:
+        tau, shock = params.accel_tau_s, params.accel_shock_m_s2
+        first, _ = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, shock_m_s2=shock))
+        gravity = inertial_lowpass(log, tau, first.x[:, 4:], shock, two_sided=offline)
+        run, model = _orientation_pass(log, params, declination_rad, gravity)
+    return rts_smooth(model, run, log.gyro) if offline else run
 
 
-def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity) -> FilterRun:
+def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity):
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     field_n = None
@@ -191,12 +253,11 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         q0 = np.array([1.0, 0.0, 0.0, 0.0])
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
-    ekf = ModelEKF(attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s,
-                                       params.gyro_range_rad_s),
-                   np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
+    model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s)
+    ekf = ModelEKF(model, np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
     measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2), log.t, accel)]
     if has_mag:
         context = np.where(good_m[:, None], log.mag, np.nan)
         measurements.append(Measurements(heading_sensor(params.heading_sigma_rad), log.t,
                                          np.full(len(log), declination_rad), context=context))
-    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability)
+    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability), model

@@ -5,7 +5,7 @@ import pytest
 
 from quadlib.analysis.metrics import attitude_error, broad_errors
 from quadlib.attitude.checks import SensorChecks
-from quadlib.attitude.orientation import OrientationParams, estimate_orientation, inertial_lowpass
+from quadlib.attitude.orientation import OrientationParams, estimate_orientation, inertial_lowpass, orientation_run
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.data import load_broad_trial
@@ -17,8 +17,8 @@ from quadlib.sim.imu import BodyMotion, imu_samples
 def test_a_slice_of_a_real_trial_is_tracked_to_a_few_degrees():
     trial = load_broad_trial("02_undisturbed_slow_rotation_B")
     n = 3000  # the first 10.5 s: rest, then slow rotations
-    run = estimate_orientation(trial.log.slice(0, n))
-    errors = broad_errors(run.x[:, :4], trial.q_nb[:n])  # every sample of the slice, at rest or moving
+    q = estimate_orientation(trial.log.slice(0, n))
+    errors = broad_errors(q, trial.q_nb[:n])  # every sample of the slice, at rest or moving
     assert errors["total_deg"] < 3.0 and errors["inclination_deg"] < 2.0
 
 
@@ -30,7 +30,7 @@ def test_a_constant_gyro_bias_is_estimated():
     bias = np.array([0.005, -0.004, 0.003])  # 0.2–0.3 °/s, the size of the BROAD sensors' biases
     noise = ImuNoise(gyro_sigma_rad_s=0.002, gyro_bias_rad_s=tuple(bias), accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(MOTION, noise, np.random.default_rng(4), field_n=FIELD)
-    run = estimate_orientation(log)
+    run = orientation_run(log)
     np.testing.assert_allclose(run.x[-1, 4:], bias, atol=1e-3)
     # until the bias is learnt, the low-passed gravity lags by about |b − b̂| τ (3.6° at 5 s)
     assert np.degrees(attitude_error(run.x[:, :4], MOTION.q_nb))[MOTION.t > 20].max() < 1.5
@@ -60,7 +60,7 @@ def test_a_translation_does_not_tilt_the_estimate():
     moving = BodyMotion(MOTION.t, MOTION.q_nb, MOTION.omega_b, f_b)
     noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(moving, noise, np.random.default_rng(6), field_n=FIELD)
-    errors = {tau: np.degrees(attitude_error(estimate_orientation(log, OrientationParams(accel_tau_s=tau)).x[:, :4],
+    errors = {tau: np.degrees(attitude_error(estimate_orientation(log, params=OrientationParams(accel_tau_s=tau)),
                                              MOTION.q_nb))[MOTION.t > 10].max() for tau in (None, 3.0)}
     assert errors[3.0] < 5.0 and errors[None] > 3 * errors[3.0]  # measured: 3.7° and 15.3°
 
@@ -71,17 +71,46 @@ def test_a_magnet_near_the_sensor_does_not_turn_the_heading():
     mag = np.array(log.mag)
     near = (log.t > 15) & (log.t < 25)
     mag[near] += [60.0, 0.0, 0.0]  # a magnet fixed to the sensor, stronger than the Earth's field
-    run = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag))
-    err = np.degrees(attitude_error(run.x[:, :4], MOTION.q_nb))
+    q = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag))
+    err = np.degrees(attitude_error(q, MOTION.q_nb))
     assert err[near].max() < 3.0 and err[MOTION.t > 30].max() < 2.0
     trusting = OrientationParams(gate_probability=None, checks=SensorChecks(None, None, None, None))
-    believed = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag), trusting)
-    assert np.degrees(attitude_error(believed.x[:, :4], MOTION.q_nb))[near].max() > 10.0  # the checks matter
+    believed = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag), params=trusting)
+    assert np.degrees(attitude_error(believed, MOTION.q_nb))[near].max() > 10.0  # the checks matter
+
+
+def test_arrays_and_a_log_give_the_same_estimate():
+    noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
+    log = imu_samples(MOTION, noise, np.random.default_rng(4), field_n=FIELD).slice(0, 500)
+    q = estimate_orientation(log.t, log.gyro, log.accel, log.mag)
+    assert q.shape == (500, 4) and np.array_equal(q, estimate_orientation(log))
+    assert not np.array_equal(estimate_orientation(log.t, log.gyro, log.accel), q)  # no magnetometer: gyro heading
+
+
+def test_the_smoother_beats_the_forward_filter_where_the_bias_was_unknown():
+    """The forward filter tilts by about |b| τ until it has learnt the bias; the backward pass
+    carries the bias learnt later back to the start."""
+    bias = np.array([0.005, -0.004, 0.003])
+    noise = ImuNoise(gyro_sigma_rad_s=0.002, gyro_bias_rad_s=tuple(bias), accel_sigma_m_s2=0.05, mag_sigma=0.3)
+    log = imu_samples(MOTION, noise, np.random.default_rng(4), field_n=FIELD)
+    forward, smoothed = orientation_run(log), orientation_run(log, offline=True)
+    early = (MOTION.t > 1.0) & (MOTION.t < 15.0)
+    err_f, err_s = (np.degrees(attitude_error(r.x[:, :4], MOTION.q_nb)) for r in (forward, smoothed))
+    assert np.sqrt(np.mean(err_s[early] ** 2)) < 0.5 * np.sqrt(np.mean(err_f[early] ** 2))
+    assert np.sqrt(np.mean(err_s**2)) < np.sqrt(np.mean(err_f**2))
+    np.testing.assert_allclose(smoothed.x[: int(0.2 * len(log)), 4:], np.broadcast_to(bias, (int(0.2 * len(log)), 3)),
+                               atol=1.5e-3)  # the bias is known from the first sample on
+    assert (smoothed.sigma[0] < 0.2 * forward.sigma[0]).all()  # the start, uncertain forwards, is known backwards
 
 
 def test_bad_arguments_are_named():
+    with pytest.raises(TypeError, match=r"gyr: expected an array of shape \(3, 3\), got None"):
+        estimate_orientation(np.arange(3.0))
     with pytest.raises(TypeError, match="log: expected an ImuLog, got tuple"):
-        estimate_orientation((np.zeros(3), np.zeros((3, 3))))
+        orientation_run((np.zeros(3), np.zeros((3, 3))))
+    log = ImuLog(np.arange(3.0), np.zeros((3, 3)), np.zeros((3, 3)))
+    with pytest.raises(TypeError, match="gyr, acc, mag: expected none of them with an ImuLog"):
+        estimate_orientation(log, np.zeros((3, 3)))
 
 
 def test_the_heading_update_turns_about_the_vertical_only():
