@@ -22,7 +22,15 @@ from .bias_model import (
 from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
-from .orientation import OrientationParams, estimate_orientation, gravity_sensor, heading_sensor, orientation_run
+from .orientation import (
+    OrientationParams,
+    estimate_orientation,
+    gravity_sensor,
+    heading_sensor,
+    orientation_run,
+    rest_mask,
+    zero_rate_sensor,
+)
 from .tumble import random_rotation, with_spin
 
 __all__ = [
@@ -59,10 +67,12 @@ __all__ = [
     "qkf",
     "quaternion_rate_matrix",
     "random_rotation",
+    "rest_mask",
     "run_attitude_filter",
     "tovkf",
     "tqf",
     "tqkf",
     "vertical_specific_force",
     "with_spin",
+    "zero_rate_sensor",
 ]

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.attitude.bias_model import attitude_bias_model, quaternion_rate_matrix
+from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model, quaternion_rate_matrix
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
@@ -33,7 +33,8 @@ from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
-__all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run"]
+__all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
+           "rest_mask", "zero_rate_sensor"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +67,12 @@ class OrientationParams:
     accel_shock_m_s2 : float or None
         Samples whose norm is further than this from g₀ [m/s²] are left out of that low-pass
         (50 m/s², about 5 g: shocks and taps, beyond the accelerations of handheld motion).
+    rest_gyro_rad_s, rest_accel_m_s2 : float
+        At rest when neither the gyro nor the accelerometer strays further than these from its own
+        low-pass (:func:`rest_mask`, VQF's thresholds: 2 °/s, 0.5 m/s²) ...
+    rest_min_s : float or None
+        ... for at least this long [s]; at rest the gyro measures its bias (a zero-rate update,
+        :func:`zero_rate_sensor`). None: no rest detection.
     """
 
     gyro_sigma_rad_s: float = 0.005
@@ -78,13 +85,17 @@ class OrientationParams:
     gyro_range_rad_s: float | None = None
     accel_tau_s: float | None = 3.0
     accel_shock_m_s2: float | None = 50.0
+    rest_gyro_rad_s: float = float(np.radians(2.0))
+    rest_accel_m_s2: float = 0.5
+    rest_min_s: float | None = 1.5
 
     def __post_init__(self):
         check_fields(self, {"gyro_sigma_rad_s": "positive", "gyro_bias_walk_rad_s_sqrt_s": "positive",
                             "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
                             "initial_bias_sigma_rad_s": "positive", "gate_probability": "optional probability",
                             "gyro_range_rad_s": "optional positive", "accel_tau_s": "optional positive",
-                            "accel_shock_m_s2": "optional positive"})
+                            "accel_shock_m_s2": "optional positive", "rest_gyro_rad_s": "positive",
+                            "rest_accel_m_s2": "positive", "rest_min_s": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
 
@@ -121,6 +132,45 @@ def heading_sensor(sigma_rad: float) -> Sensor:
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
                   h=_field_heading, H=_heading_only_jacobian, R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
+
+
+def zero_rate_sensor(sigma_rad_s: float) -> Sensor:
+    """The gyro at rest as a measurement of its own bias: ``h(x) = b`` [rad/s], σ per sample."""
+    as_positive("sigma_rad_s", sigma_rad_s)
+    H = np.hstack([np.zeros((3, 4)), np.eye(3)])
+    return Sensor(name="zero rate", measurement_names=GYRO_NAMES, h=lambda x: x[4:], H=lambda x: H,
+                  R=sigma_rad_s**2 * np.eye(3))
+
+
+def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, tau_s: float = 0.5) -> np.ndarray:
+    """``(N,)`` bool: the samples where the sensor is at rest (VQF's test, Laidig & Seel 2023, §4).
+
+    Each stream is low-passed (first order, ``tau_s``); a sample is calm when the gyro is within
+    ``gyro_rad_s`` of its low-pass and the accelerometer within ``accel_m_s2`` of its own, and the
+    sensor is at rest once it has been calm for ``min_s`` seconds. Missing samples are not calm.
+    """
+    if not isinstance(log, ImuLog):
+        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    gyro_th, accel_th = as_positive("gyro_rad_s", gyro_rad_s), as_positive("accel_m_s2", accel_m_s2)
+    min_s, tau = as_positive("min_s", min_s), as_positive("tau_s", tau_s)
+    calm = np.zeros(len(log), bool)
+    lp_g = lp_a = None
+    for k in range(len(log)):
+        g, a = log.gyro[k], log.accel[k]
+        if np.isnan(g).any() or np.isnan(a).any():
+            continue
+        if lp_g is None:
+            lp_g, lp_a = g.copy(), a.copy()
+        else:
+            w = (log.t[k] - log.t[k - 1]) / (tau + log.t[k] - log.t[k - 1])
+            lp_g, lp_a = lp_g + w * (g - lp_g), lp_a + w * (a - lp_a)
+        calm[k] = np.linalg.norm(g - lp_g) < gyro_th and np.linalg.norm(a - lp_a) < accel_th
+    rest = np.zeros_like(calm)
+    since = None
+    for k in range(len(log)):
+        since = (log.t[k] if since is None else since) if calm[k] else None
+        rest[k] = since is not None and log.t[k] - since >= min_s
+    return rest
 
 
 def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: float | None = None,
@@ -260,4 +310,8 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         context = np.where(good_m[:, None], log.mag, np.nan)
         measurements.append(Measurements(heading_sensor(params.heading_sigma_rad), log.t,
                                          np.full(len(log), declination_rad), context=context))
+    if params.rest_min_s is not None:
+        rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)
+        measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
+                                         np.where(rest[:, None], log.gyro, np.nan)))
     return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability), model

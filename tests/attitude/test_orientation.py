@@ -127,3 +127,44 @@ def test_the_heading_update_turns_about_the_vertical_only():
         turn = 0.01 * quat_to_dcm(x[:4])[2]  # a body turn whose earth-frame axis is down: a pure heading change
         heading_change = sensor.residual(sensor.h(model.state_add(x, np.r_[turn, 0, 0, 0]), m_b), sensor.h(x, m_b))
         assert heading_change[0] == pytest.approx(0.01, rel=1e-4)  # h changes by exactly that turn
+
+
+def _still_then_turning(still_s=5.0, turning_s=10.0, rate_hz=100.0):
+    """At rest, then turning at up to 1 rad/s, then at rest again."""
+    from quadlib.constants import GRAVITY_N
+    from quadlib.geometry.quaternion import integrate_body_rate
+
+    t = np.arange(int((2 * still_s + turning_s) * rate_hz)) / rate_hz
+    turning = (t >= still_s) & (t < still_s + turning_s)
+    omega = np.where(turning[:, None], np.sin(2 * np.pi * np.outer(t - still_s, [0.1, 0.15, 0.05])), 0.0)
+    q = np.empty((t.size, 4))
+    q[0] = [0.9, 0.1, -0.2, 0.3] / np.linalg.norm([0.9, 0.1, -0.2, 0.3])
+    for k in range(1, t.size):
+        q[k] = integrate_body_rate(q[k - 1], omega[k - 1], t[k] - t[k - 1])
+    f_b = np.einsum("nji,j->ni", quat_to_dcm(q), -GRAVITY_N)
+    return BodyMotion(t, q, omega, f_b), turning
+
+
+def test_rest_is_found_after_its_minimum_duration_and_never_while_turning():
+    from quadlib.attitude.orientation import rest_mask
+
+    motion, turning = _still_then_turning()
+    noise = ImuNoise(gyro_sigma_rad_s=0.005, gyro_bias_rad_s=(0.01, 0.0, 0.0), accel_sigma_m_s2=0.05, mag_sigma=0.3)
+    log = imu_samples(motion, noise, np.random.default_rng(2), field_n=FIELD)
+    rest = rest_mask(log, np.radians(2.0), 0.5, 1.5)
+    assert not rest[turning & (motion.t > 5.2)].any()  # its first samples turn slower than the threshold
+    assert rest[(motion.t > 1.6) & (motion.t < 5.0)].all() and not rest[motion.t < 1.4].any()
+    assert rest[motion.t > 15.0 + 3.0].all()  # the low-passes forget the turning in about a second
+
+
+def test_a_gyro_bias_is_learnt_at_rest_within_seconds():
+    """The zero-rate update measures the bias directly; without it the bias is learnt only through
+    the drift the accelerometer and magnetometer see, which at rest is slow."""
+    motion, _ = _still_then_turning()
+    bias = np.array([0.01, -0.008, 0.006])
+    noise = ImuNoise(gyro_sigma_rad_s=0.005, gyro_bias_rad_s=tuple(bias), accel_sigma_m_s2=0.05, mag_sigma=0.3)
+    log = imu_samples(motion, noise, np.random.default_rng(3), field_n=FIELD)
+    at_4s = int(np.searchsorted(motion.t, 4.0))
+    with_rest = orientation_run(log).x[at_4s, 4:]
+    without = orientation_run(log, OrientationParams(rest_min_s=None)).x[at_4s, 4:]
+    assert np.abs(with_rest - bias).max() < 1e-3 < np.abs(without - bias).max()
