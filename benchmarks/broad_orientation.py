@@ -22,23 +22,40 @@ from pathlib import Path
 
 import numpy as np
 
-from quadlib.analysis.orientation_table import estimator_names, score_estimators
+from quadlib.analysis.orientation_table import error_components, estimator_names, score_estimators
 from quadlib.data import broad_trial_names, load_broad_trial
 
 RESULTS = Path(__file__).resolve().parent / "results" / "broad_orientation.csv"
+SERIES = RESULTS.with_name("broad_error_series.csv")
 COLUMNS = ("total_deg", "heading_deg", "inclination_deg", "us_per_sample")
+SERIES_HZ = 2.0  # the error series chapter 13 plots: these trials and estimators, two samples a second
+SERIES_TRIALS = ("02_undisturbed_slow_rotation_B", "24_disturbed_tapping_A", "32_disturbed_attached_magnet_1cm")
+SERIES_ESTIMATORS = ("quadlib MEKF", "quadlib MEKF smoother", "Kesten TQF", "Kesten QKF", "Salmony EKF", "VQF",
+                     "offline VQF", "ahrs Madgwick")
 
 
 def one_trial(args):
     name, estimators = args
     trial = load_broad_trial(name)
-    return name, score_estimators(estimators, trial.log, trial.q_nb, trial.movement)
+    rows, estimates = score_estimators(estimators, trial.log, trial.q_nb, trial.movement)
+    every = max(1, int(round(1.0 / (SERIES_HZ * float(np.median(trial.log.dt))))))
+    series = {k: tuple(c[::every] for c in error_components(q, trial.q_nb)) for k, q in estimates.items()
+              if name in SERIES_TRIALS and k in SERIES_ESTIMATORS}
+    return name, (rows, trial.log.t[::every], series)
 
 
 def main(estimators) -> None:
     with Pool(2) as pool:
-        results = dict(pool.map(one_trial, [(name, estimators) for name in broad_trial_names()], chunksize=1))
+        done = dict(pool.map(one_trial, [(name, estimators) for name in broad_trial_names()], chunksize=1))
+    results = {trial: rows for trial, (rows, _, _) in done.items()}
     RESULTS.parent.mkdir(exist_ok=True)
+    with SERIES.open("w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(("trial", "estimator", "t_s", "heading_error_deg", "inclination_error_deg"))
+        for trial, (_, t, series) in done.items():
+            for name, (heading, inclination) in series.items():
+                for row in zip(t, heading, inclination, strict=True):
+                    out.writerow((trial, name) + tuple(f"{v:.3f}" for v in row))
     with RESULTS.open("w", newline="") as f:
         out = csv.writer(f)
         out.writerow(("trial", "estimator") + COLUMNS)

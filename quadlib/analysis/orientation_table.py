@@ -20,13 +20,13 @@ from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.fixedwing.estimate import error_state_ukf, estimate_fixedwing_attitude, salmony_ekf
 from quadlib.fixedwing.model import FixedWingNoise
-from quadlib.geometry.quaternion import quat_multiply
+from quadlib.geometry.quaternion import quat_conjugate, quat_multiply
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.validation import as_positive
 
-__all__ = ["ENU_TO_NED_Q", "NWU_TO_NED_Q", "estimator_names", "field_at_rest", "orientation_estimate",
-           "score_estimators"]
+__all__ = ["ENU_TO_NED_Q", "NWU_TO_NED_Q", "error_components", "estimator_names", "field_at_rest",
+           "orientation_estimate", "score_estimators"]
 
 ENU_TO_NED_Q = np.array([0.0, np.sqrt(0.5), np.sqrt(0.5), 0.0])
 """ENU → NED: 180° about the east-north bisector (also :data:`quadlib.data.broad.ENU_TO_NED`)."""
@@ -131,13 +131,32 @@ def orientation_estimate(name: str, log: ImuLog) -> np.ndarray:
     return _ESTIMATORS[name](log)
 
 
-def score_estimators(names, log: ImuLog, q_truth, movement=None) -> dict[str, dict[str, float]]:
+def score_estimators(names, log: ImuLog, q_truth, movement=None) -> tuple[dict, dict]:
     """Each estimator's BROAD errors over ``log`` (:func:`~quadlib.analysis.broad_errors`) and its
-    cost, ``us_per_sample`` [µs] (wall-clock time of the whole call over the samples)."""
-    rows = {}
+    cost, ``us_per_sample`` [µs] (wall-clock time of the whole call over the samples); and its
+    estimates, ``q_nb`` (N, 4) per name."""
+    rows, estimates = {}, {}
     for name in names:
         start = time.perf_counter()
         q = orientation_estimate(name, log)
         cost = (time.perf_counter() - start) / len(log) * 1e6
         rows[name] = broad_errors(q, q_truth, movement) | {"us_per_sample": cost}
-    return rows
+        estimates[name] = q
+    return rows, estimates
+
+
+def error_components(q_estimate, q_truth) -> tuple[np.ndarray, np.ndarray]:
+    """Heading and inclination error [deg] per sample, BROAD's split (see
+    :func:`~quadlib.analysis.broad_errors`): the heading error signed (a turn about down, east of
+    the truth positive), the inclination error its size; NaN where the truth is."""
+    q_est = np.asarray(q_estimate, dtype=float)
+    q_true = np.asarray(q_truth, dtype=float)
+    if q_est.shape != q_true.shape or q_est.ndim != 2 or q_est.shape[1] != 4:
+        raise ValueError(f"q_estimate, q_truth: expected the same (N, 4) shape, got {q_est.shape} and {q_true.shape}")
+    missing = np.isnan(q_true).any(axis=1)
+    e = quat_multiply(q_est, quat_conjugate(np.where(missing[:, None], [1.0, 0.0, 0.0, 0.0], q_true)))
+    e = e * np.where(e[:, :1] < 0.0, -1.0, 1.0)
+    heading = np.degrees(2.0 * np.arctan2(e[:, 3], e[:, 0]))
+    inclination = np.degrees(2.0 * np.arccos(np.clip(np.hypot(e[:, 0], e[:, 3]), 0.0, 1.0)))
+    heading[missing] = inclination[missing] = np.nan
+    return heading, inclination

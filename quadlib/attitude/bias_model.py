@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
     integrate_body_rate,
     quat_conjugate,
-    quat_from_rotvec,
     quat_multiply,
     quat_normalize,
-    quat_to_dcm,
     quat_to_rotvec,
 )
 from quadlib.imu import gyro_saturation_noise
@@ -87,8 +86,16 @@ def normalize_attitude_jacobian(x):
     return J
 
 
+def _step(x, u, dt):  # gyro_step, unchecked (the filter checked its log)
+    return np.concatenate([kernels.multiply(x[:4], kernels.exp_rotvec((u - x[4:]) * dt)), x[4:]])
+
+
+def _normalized(x):  # normalize_attitude, unchecked
+    return np.concatenate([kernels.normalize(x[:4]), x[4:]])
+
+
 def _add_error(x, e):
-    return np.concatenate([quat_multiply(x[:4], quat_from_rotvec(e[:3])), x[4:] + e[3:]])
+    return np.concatenate([kernels.multiply(x[:4], kernels.exp_rotvec(e[:3])), x[4:] + e[3:]])
 
 
 def _error_between(x1, x0):
@@ -98,7 +105,7 @@ def _error_between(x1, x0):
 def _add_jacobian(x):
     """``∂(x ⊞ δx)/∂δx`` at 0: ``q ⊗ exp(δθ) ≈ q + ½ Ξ(q) δθ``, and the identity for the bias."""
     J = np.zeros((7, 6))
-    J[:4, :3] = 0.5 * quaternion_rate_matrix(x[:4])
+    J[:4, :3] = 0.5 * kernels.rate_matrix(x[:4])
     J[4:, 3:] = np.eye(3)
     return J
 
@@ -118,7 +125,7 @@ def _error_jacobian(x, u, dt):
     else:  # the series of both coefficients
         a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
     G = np.eye(6)
-    G[:3, :3] = quat_to_dcm(quat_from_rotvec(phi)).T
+    G[:3, :3] = kernels.dcm(kernels.exp_rotvec(phi)).T
     G[:3, 3:] = -dt * (np.eye(3) - a * K + b * K @ K)
     return G
 
@@ -138,10 +145,10 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
-                 g=gyro_step,
+                 g=_step,
                  G=_error_jacobian, Q=lambda dt: np.diag([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3),
                  error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
                  state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
-                 normalize=normalize_attitude,
+                 normalize=_normalized,
                  input_noise=gyro_saturation_noise(gyro_range_rad_s, [1.0] * 3 + [0.0] * 3),
                  name="attitude and gyro bias, error state")

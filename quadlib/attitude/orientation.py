@@ -20,11 +20,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model, quaternion_rate_matrix
+from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
-from quadlib.geometry.quaternion import body_vector, integrate_body_rate, quat_to_dcm, vector_jacobian
+from quadlib.geometry import kernels
+from quadlib.geometry.quaternion import quat_to_dcm
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream
@@ -104,12 +105,13 @@ def gravity_sensor(sigma_m_s2: float) -> Sensor:
     """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]."""
     as_positive("sigma_m_s2", sigma_m_s2)
     up = -GRAVITY_N
-    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: body_vector(x[:4], up),
-                  H=lambda x: np.hstack([vector_jacobian(x[:4], up), np.zeros((3, 3))]), R=sigma_m_s2**2 * np.eye(3))
+    zeros = np.zeros((3, 3))
+    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: kernels.dcm(x[:4]).T @ up,
+                  H=lambda x: np.hstack([kernels.body_vector_jacobian(x[:4], up), zeros]), R=sigma_m_s2**2 * np.eye(3))
 
 
 def _field_heading(x, m_b):
-    m_n = quat_to_dcm(x[:4], unit_tolerance=None) @ m_b
+    m_n = kernels.dcm(x[:4]) @ m_b
     return np.array([np.arctan2(m_n[1], m_n[0])])
 
 
@@ -120,7 +122,7 @@ def _heading_only_jacobian(x, m_b):
     ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The innovation can then turn the attitude about
     the vertical only: a heading computed with a slightly wrong tilt cannot tilt the estimate."""
     J = np.zeros((1, 7))
-    J[0, :4] = quat_to_dcm(x[:4], unit_tolerance=None)[2] @ (2.0 * quaternion_rate_matrix(x[:4]).T)
+    J[0, :4] = kernels.dcm(x[:4])[2] @ (2.0 * kernels.rate_matrix(x[:4]).T)
     return J
 
 
@@ -214,9 +216,9 @@ def _lowpass_pass(t, gyro, accel, usable, tau, order) -> np.ndarray:
     for k in order:
         if previous is not None:  # turn the frame from the previous sample to this one
             step = t[k] - t[previous]
-            q = integrate_body_rate(q, gyro[min(k, previous)], step) if step > 0 else \
-                integrate_body_rate(q, -gyro[k], -step)
-        R = quat_to_dcm(q, unit_tolerance=None)
+            rate = gyro[previous] if step > 0 else -gyro[k]
+            q = kernels.multiply(q, kernels.exp_rotvec(rate * abs(step)))
+        R = kernels.dcm(q)
         if usable[k]:
             a_i = R @ accel[k]
             dt = abs(t[k] - t[previous]) if previous is not None else 0.0

@@ -1,0 +1,28 @@
+"""The unchecked one-quaternion kernels compute what their checked namesakes compute."""
+
+import numpy as np
+
+from quadlib.attitude.bias_model import quaternion_rate_matrix
+from quadlib.geometry import kernels
+from quadlib.geometry.quaternion import (
+    quat_from_rotvec,
+    quat_multiply,
+    quat_normalize,
+    quat_to_dcm,
+    vector_jacobian,
+)
+
+RNG = np.random.default_rng(11)
+CASES = [(RNG.normal(size=4), RNG.normal(size=4), RNG.normal(size=3) * s) for s in (1e-10, 1e-4, 0.3, 3.0) * 5]
+
+
+def test_each_kernel_equals_its_checked_namesake():
+    for p, q, v in CASES:
+        np.testing.assert_allclose(kernels.multiply(p, q), quat_multiply(p, q), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.exp_rotvec(v), quat_from_rotvec(v), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.normalize(q), quat_normalize(q), rtol=0, atol=1e-15)
+        u = quat_normalize(q)
+        np.testing.assert_allclose(kernels.dcm(u), quat_to_dcm(u), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.rate_matrix(q), quaternion_rate_matrix(q), rtol=0, atol=0)
+        np.testing.assert_allclose(kernels.body_vector_jacobian(q, v), vector_jacobian(q, v), rtol=1e-12,
+                                   atol=1e-12 * np.abs(v).max())
