@@ -1,7 +1,8 @@
 """Orientation on the BROAD trials: every quadlib estimator against VQF and ahrs, in one run.
 
 Usage: ``python benchmarks/broad_orientation.py [estimator,estimator,...]`` (all of them: about
-an hour on 2 cores, most of it the fixed-wing error-state UKF). Prints, per trial and as the mean
+an hour on 2 cores, most of it the fixed-wing error-state UKF; named ones replace their rows in
+the stored results and keep the others). Prints, per trial and as the mean
 over the trials, BROAD's total / heading / inclination RMSE [deg] (Laidig et al. 2021;
 :func:`quadlib.analysis.broad_errors`) and the cost per sample [µs] of each estimator, all with
 default parameters (no per-trial tuning), and writes them to ``benchmarks/results/
@@ -44,24 +45,33 @@ def one_trial(args):
     return name, (rows, trial.log.t[::every], series)
 
 
+def _write_merged(path: Path, header, rows, estimators) -> None:
+    """Write ``rows``, keeping the rows of the estimators not re-run from the file's last version."""
+    kept = []
+    if path.is_file():
+        with path.open(newline="") as f:
+            kept = [tuple(r) for r in list(csv.reader(f))[1:] if r[1] not in estimators]
+    order = {name: i for i, name in enumerate(estimator_names())}
+    merged = sorted(kept + rows, key=lambda r: (r[0], order.get(r[1], len(order))))  # stable: time order kept
+    with path.open("w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(header)
+        out.writerows(merged)
+
+
 def main(estimators) -> None:
     with Pool(2) as pool:
         done = dict(pool.map(one_trial, [(name, estimators) for name in broad_trial_names()], chunksize=1))
     results = {trial: rows for trial, (rows, _, _) in done.items()}
     RESULTS.parent.mkdir(exist_ok=True)
-    with SERIES.open("w", newline="") as f:
-        out = csv.writer(f)
-        out.writerow(("trial", "estimator", "t_s", "heading_error_deg", "inclination_error_deg"))
-        for trial, (_, t, series) in done.items():
-            for name, (heading, inclination) in series.items():
-                for row in zip(t, heading, inclination, strict=True):
-                    out.writerow((trial, name) + tuple(f"{v:.3f}" for v in row))
-    with RESULTS.open("w", newline="") as f:
-        out = csv.writer(f)
-        out.writerow(("trial", "estimator") + COLUMNS)
-        for trial, rows in results.items():
-            for name, row in rows.items():
-                out.writerow((trial, name) + tuple(f"{row[c]:.4f}" for c in COLUMNS))
+    series_rows = [(trial, name) + tuple(f"{v:.3f}" for v in row)
+                   for trial, (_, t, series) in done.items() for name, (heading, inclination) in series.items()
+                   for row in zip(t, heading, inclination, strict=True)]
+    result_rows = [(trial, name) + tuple(f"{row[c]:.4f}" for c in COLUMNS)
+                   for trial, rows in results.items() for name, row in rows.items()]
+    _write_merged(SERIES, ("trial", "estimator", "t_s", "heading_error_deg", "inclination_error_deg"), series_rows,
+                  estimators)
+    _write_merged(RESULTS, ("trial", "estimator") + COLUMNS, result_rows, estimators)
     print("total / heading / inclination RMSE [deg], mean over the trials; cost [µs per sample]")
     print(f"| estimator | {' | '.join(t[:2] for t in results)} | **mean** | µs per sample |")
     print("|---|" + "---|" * (len(results) + 2))
