@@ -51,3 +51,19 @@ def test_unknown_names_and_logs_without_a_magnetometer_are_refused():
         orientation_estimate("EKF", log)
     with pytest.raises(ValueError, match="log.mag: expected magnetometer samples, got None"):
         orientation_estimate("VQF", log)
+
+
+def test_error_components_split_a_known_error_like_broad_errors():
+    from quadlib.analysis.orientation_table import error_components
+    from quadlib.geometry.quaternion import quat_from_rotvec, quat_multiply
+
+    truth = np.tile([np.cos(0.2), 0.0, np.sin(0.2), 0.0], (3, 1))
+    turn = quat_multiply(quat_from_rotvec(np.radians([0.0, 0.0, -3.0])), quat_from_rotvec(np.radians([1.0, 0.0, 0.0])))
+    estimate = quat_multiply(turn, truth)  # an earth-frame error: 1° of roll, then 3° to the west
+    truth[1] = np.nan
+    heading, inclination = error_components(estimate, truth)
+    np.testing.assert_allclose(heading[[0, 2]], -3.0, atol=1e-9)
+    np.testing.assert_allclose(inclination[[0, 2]], 1.0, atol=1e-9)
+    assert np.isnan(heading[1]) and np.isnan(inclination[1])
+    rms = broad_errors(estimate[[0, 2]], truth[[0, 2]])
+    assert rms["heading_deg"] == pytest.approx(3.0) and rms["inclination_deg"] == pytest.approx(1.0)
