@@ -114,8 +114,9 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         \\bar\\mu = g(\\mu, u, \\Delta t), \\quad
         \\bar\\Sigma = G \\Sigma G^\\top + Q(\\Delta t), \\quad G = G(\\mu, u, \\Delta t)
 
-    The update is filterpy's, with the sensor's ``h``, ``H``, ``R`` and
-    residual, and the Joseph-form covariance update. With an error-state model
+    The update is filterpy's (written out, tested equal to it), with the
+    sensor's ``h``, ``H``, ``R`` and residual, and the Joseph-form covariance
+    update. With an error-state model
     this is the multiplicative EKF: filterpy's ``x`` is the error, ``G`` and
     ``H`` are taken with respect to it, and each update ends with the reset
     ``x ← x ⊞ δx``, ``δx ← 0`` (see :class:`ModelFilter`).
@@ -159,23 +160,31 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
             self.x = x_new.reshape(-1, 1)
 
     def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
+        # filterpy's ExtendedKalmanFilter.update, written out for one sample: the same equations
+        # and attributes (y, S, SI, K, x_post, P_post), without its per-call argument handling
         h, H = self._sensor_functions(sensor, context)
-        if sensor.residual is np.subtract:
-            residual = np.subtract
-        else:
-            def residual(a, b):
-                return np.asarray(sensor.residual(a[:, 0], b[:, 0]), dtype=float).reshape(-1, 1)
         if self.nominal is not None:  # linearised at the nominal state, where the error is zero
-            nominal, chain = self.nominal, self.model.add_jacobian
-            H_error = np.asarray(H(nominal), dtype=float)
-            if chain is not None:
-                H_error = H_error @ np.asarray(chain(nominal), dtype=float)
-            Hx, HJacobian = (lambda e: np.asarray(h(nominal), dtype=float).reshape(-1, 1), lambda e: H_error)
+            at = self.nominal
+            H_x = np.asarray(H(at), dtype=float)
+            if self.model.add_jacobian is not None:
+                H_x = H_x @ np.asarray(self.model.add_jacobian(at), dtype=float)
         else:
-            Hx, HJacobian = (lambda x: np.asarray(h(x[:, 0]), dtype=float).reshape(-1, 1),
-                             lambda x: np.asarray(H(x[:, 0]), dtype=float))
-        ExtendedKalmanFilter.update(self, z.reshape(-1, 1), HJacobian=HJacobian, Hx=Hx, R=sensor.R,
-                                    residual=residual)
+            at = self.x[:, 0]
+            H_x = np.asarray(H(at), dtype=float)
+        z_hat = np.asarray(h(at), dtype=float)
+        y = z - z_hat if sensor.residual is np.subtract else np.asarray(sensor.residual(z, z_hat), dtype=float)
+        R = sensor.R
+        PHT = self.P @ H_x.T
+        self.S = H_x @ PHT + R
+        self.SI = np.linalg.inv(self.S)
+        self.K = PHT @ self.SI
+        self.y = y.reshape(-1, 1)
+        self.x = self.x + self.K @ self.y
+        I_KH = self._I - self.K @ H_x
+        self.P = I_KH @ self.P @ I_KH.T + self.K @ R @ self.K.T
+        self.z = z.reshape(-1, 1).copy()
+        self.x_post, self.P_post = self.x.copy(), self.P.copy()
+        self._log_likelihood = self._likelihood = self._mahalanobis = None
 
 
 def _positive_definite(P: np.ndarray) -> np.ndarray:
