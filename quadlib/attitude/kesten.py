@@ -48,15 +48,14 @@ import numpy as np
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
+from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
-    body_vector,
     integrate_body_rate,
     quat_conjugate,
     quat_from_rotvec,
     quat_multiply,
     quat_normalize,
     quat_to_rotvec,
-    vector_jacobian,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
@@ -183,10 +182,14 @@ def _checked(noise, sigma0_rad, checks) -> float:
     return as_positive("sigma0_rad", sigma0_rad)
 
 
+def _gyro_step(q, u, dt):  # integrate_body_rate for one quaternion, unchecked (the log was checked)
+    return kernels.multiply(q, kernels.exp_rotvec(u * dt))
+
+
 def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
     """``q ← q ⊗ exp(ω Δt)`` on the 4 components, process noise ``(σ_ω Δt/2)² I₄``."""
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
-                 g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(4),
+                 g=_gyro_step, G=lambda x, u, dt: np.eye(4),
                  Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=quat_normalize,
                  input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
 
@@ -197,7 +200,7 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
     def state_add(q, d):
         for i in range(blocks):
             if d[3 * i:3 * i + 3].any():  # each update turns by one block only
-                q = quat_multiply(q, quat_from_rotvec(d[3 * i:3 * i + 3]))
+                q = kernels.multiply(q, kernels.exp_rotvec(d[3 * i:3 * i + 3]))
         return q
 
     def residual_x(q1, q0):  # one right inverse of state_add: the whole turn in the first block
@@ -206,7 +209,7 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
     names = tuple(f"dtheta{i}_{axis}" for i in range(1, blocks + 1) for axis in "xyz")
     n = 3 * blocks
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"), error_names=names,
-                 g=lambda x, u, dt: integrate_body_rate(x, u, dt), G=lambda x, u, dt: np.eye(n),
+                 g=_gyro_step, G=lambda x, u, dt: np.eye(n),
                  Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(n), state_add=state_add, residual_x=residual_x,
                  normalize=quat_normalize, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
                  name="gyro-driven rotation error")
@@ -274,8 +277,8 @@ def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Quaternion Kalman filter: the accelerometer and the magnetometer as nonlinear measurements
     of q (eqs. 2.25, 2.49–2.54), each updated on its own."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: body_vector(x, ref),
-                           H=lambda x, ref=ref: vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
+    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: kernels.dcm(x).T @ ref,
+                           H=lambda x, ref=ref: kernels.body_vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
                     for name, ref, sigma in (("accel", noise.accel_n, noise.accel_sigma_m_s2),
                                              ("mag", noise.field_n, noise.mag_sigma)))
 
@@ -297,7 +300,7 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                                             ("mag", noise.field_n, noise.r_mag))):
         H = np.zeros((3, 6))
         H[:, 3 * block:3 * block + 3] = np.eye(3)
-        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: body_vector(q, ref),
+        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: kernels.dcm(q).T @ ref,
                               H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
                         lambda log: (_accel(log, checks), _mag(log, noise, checks)))
