@@ -132,6 +132,8 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         Default step [s].
     """
 
+    supports_uncorrected = True
+
     def __init__(self, model: Model, x0, P0, dt: float):
         x0 = self._setup(model, x0, P0, dt)
         if model.G is None:
@@ -178,6 +180,8 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         self.S = H_x @ PHT + R
         self.SI = np.linalg.inv(self.S)
         self.K = PHT @ self.SI
+        if sensor.uncorrected:  # a consider update: those states keep their value; Joseph's P stays exact
+            self.K[list(sensor.uncorrected)] = 0.0
         self.y = y.reshape(-1, 1)
         self.x = self.x + self.K @ self.y
         I_KH = self._I - self.K @ H_x

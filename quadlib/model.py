@@ -229,6 +229,11 @@ class Sensor:
         A sample equal to the ``n − 1`` present samples before it is a frozen sensor's and is
         skipped like a missing one (:func:`~quadlib.samples.stuck_rows`). ``None``: never. Use it
         only for sensors whose noise makes exact repeats impossible.
+    uncorrected : tuple of int, optional
+        Indices of (error-)state components this sensor's update leaves unchanged: their rows
+        of the gain are zero (a "consider" or Schmidt update), and the Joseph form keeps the
+        covariance exact for that gain. A magnetometer that should correct the heading but
+        never the gyro bias. Supported by :class:`~quadlib.ModelEKF`.
     """
 
     name: str
@@ -243,6 +248,7 @@ class Sensor:
     groups: tuple[tuple[int, ...], ...] = ()
     reset_after_s: float | None = None
     stuck_samples: int | None = None
+    uncorrected: tuple[int, ...] = ()
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -271,6 +277,15 @@ class Sensor:
         n = self.stuck_samples
         if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2):
             raise ValueError(f"Sensor({self.name!r}).stuck_samples: expected an int >= 2 or None, got {n!r}")
+        try:
+            uncorrected = tuple(self.uncorrected)
+        except TypeError:
+            uncorrected = None
+        if uncorrected is None or any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0
+                                      for i in uncorrected) or len(set(uncorrected)) != len(uncorrected):
+            raise ValueError(f"Sensor({self.name!r}).uncorrected: expected distinct state indices >= 0, "
+                             f"got {self.uncorrected!r}")
+        object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")
@@ -316,7 +331,8 @@ class Sensor:
         residual = np.subtract if self.residual is np.subtract else (
             lambda a, b: np.asarray(self.residual(embed(a), embed(b)))[rows])
         return Sensor(name=self.name, measurement_names=tuple(self.measurement_names[i] for i in rows), h=h, H=H,
-                      R=self.R[np.ix_(rows, rows)], residual=residual, mean=mean, context_names=self.context_names)
+                      R=self.R[np.ix_(rows, rows)], residual=residual, mean=mean, context_names=self.context_names,
+                      uncorrected=self.uncorrected)
 
     def check_measurement(self, z, name: str = "z") -> Array:
         """Return ``z`` as a finite ``(k,)`` vector or raise ``ValueError``."""

@@ -136,11 +136,19 @@ class ModelFilter:
             self.x = np.asarray(m.normalize(x), dtype=float).reshape(self.x.shape)
 
     needs_jacobians = True  # the UKF sets False
+    supports_uncorrected = False  # the EKF sets True (Sensor.uncorrected)
 
     def check_sensor(self, sensor, name: str = "sensor") -> Sensor:
         """Return ``sensor`` if this filter can update with it, else raise ``TypeError``/``ValueError``."""
         if not isinstance(sensor, Sensor):
             raise TypeError(f"{name}: expected a quadlib Sensor, got {type(sensor).__name__}")
+        if sensor.uncorrected:
+            if not self.supports_uncorrected:
+                raise ValueError(f"{name}: {sensor.name!r} leaves states {sensor.uncorrected} uncorrected, which "
+                                 f"{type(self).__name__} does not support (ModelEKF does)")
+            if max(sensor.uncorrected) >= self.model.dim_P:
+                raise ValueError(f"{name}: {sensor.name!r}.uncorrected: expected indices below {self.model.dim_P}, "
+                                 f"got {sensor.uncorrected}")
         if self.needs_jacobians and sensor.H is None:
             raise ValueError(f"{name}: {sensor.name!r} has no Jacobian H; {type(self).__name__} needs one "
                              "(ModelUKF does not)")

@@ -352,3 +352,29 @@ def test_input_noise_is_added_to_q_for_the_inputs_that_ask_for_it(cls):
     bad = cls(replace(base, input_noise=lambda u, dt: -np.eye(2)), [0.0, 0.0], np.eye(2), 0.1)
     with pytest.raises(ValueError, match=r"cv.input_noise\(u, dt=0.1\)"):
         bad.predict([0.0])
+
+
+def test_an_uncorrected_state_keeps_its_value_and_the_covariance_is_joseph_with_that_gain():
+    model = Model(("p", "v"), (), g=lambda x, u, dt: np.array([x[0] + dt * x[1], x[1]]),
+                  G=lambda x, u, dt: np.array([[1.0, dt], [0.0, 1.0]]), B=lambda x, u, dt: np.zeros((2, 0)),
+                  Q=lambda dt: 0.01 * np.eye(2))
+    sensor = Sensor("pos", ("p",), h=lambda x: x[:1], H=lambda x: np.array([[1.0, 0.0]]), R=[[0.5]],
+                    uncorrected=(1,))
+    P0 = np.array([[2.0, 0.8], [0.8, 1.0]])
+    ekf = ModelEKF(model, [0.0, 1.0], P0, 0.1)
+    ekf.update_sensor(sensor, [3.0])
+    H, R = np.array([[1.0, 0.0]]), np.array([[0.5]])
+    K = P0 @ H.T / (H @ P0 @ H.T + R)
+    K[1] = 0.0
+    joseph = (np.eye(2) - K @ H) @ P0 @ (np.eye(2) - K @ H).T + K @ R @ K.T
+    assert ekf.x[1, 0] == 1.0 and ekf.x[0, 0] == pytest.approx(3.0 * K[0, 0])
+    np.testing.assert_allclose(ekf.P, joseph, atol=1e-12)
+    assert ekf.P[1, 1] == pytest.approx(P0[1, 1])  # nothing was learnt about v
+    for other in (LinearKF(model, [0.0, 1.0], P0, 0.1), ModelUKF(model, [0.0, 1.0], P0, 0.1)):
+        with pytest.raises(ValueError, match="leaves states \\(1,\\) uncorrected, which"):
+            other.update_sensor(sensor, [3.0])
+    with pytest.raises(ValueError, match="uncorrected: expected indices below 2"):
+        ModelEKF(model, [0.0, 1.0], P0, 0.1).update_sensor(Sensor("pos", ("p",), h=sensor.h, H=sensor.H, R=[[0.5]],
+                                                                  uncorrected=(2,)), [3.0])
+    with pytest.raises(ValueError, match="uncorrected: expected distinct state indices"):
+        Sensor("pos", ("p",), h=sensor.h, H=sensor.H, R=[[0.5]], uncorrected=(1, 1))

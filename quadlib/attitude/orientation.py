@@ -11,7 +11,8 @@ updates correct it, each only where its sensor can be trusted:
   the innovation. The field's dip never touches roll and pitch (they come from gravity), and
   samples whose norm, dip or repetition say "disturbed" are skipped.
 
-Gyro bias is estimated in both cases (it is observable about every axis a sensor sees).
+The gyro bias is learnt from gravity and, at rest, from the gyro itself (a zero-rate update); the
+magnetometer never touches it (see :func:`heading_sensor`).
 """
 
 from __future__ import annotations
@@ -129,11 +130,14 @@ def _heading_only_jacobian(x, m_b):
 def heading_sensor(sigma_rad: float) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
     attitude, its horizontal angle east of north [rad]. The measurement is the local declination
-    (where the field should point)."""
+    (where the field should point). It corrects the heading only, never the gyro bias (error
+    states 3–5 are ``uncorrected``): a field that drifts as the sensor moves would otherwise be
+    learnt as a bias and turn the heading long after (VQF keeps the magnetometer out of its bias
+    estimate for the same reason)."""
     as_positive("sigma_rad", sigma_rad)
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
                   h=_field_heading, H=_heading_only_jacobian, R=np.full((1, 1), sigma_rad**2),
-                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)))
+                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)), uncorrected=(3, 4, 5))
 
 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:
