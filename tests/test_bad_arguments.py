@@ -328,7 +328,7 @@ PROBES = [
            "accel_range_m_s2": BAD["positive"]}),
     Probe(baro_altitude_sensor, lambda: dict(sigma_m=0.4), {"sigma_m": BAD["positive"], "rate_hz": BAD["positive"]}),
     Probe(gravity_sensor, lambda: dict(sigma_m_s2=1.0), {"sigma_m_s2": BAD["positive"]}),
-    Probe(heading_sensor, lambda: dict(sigma_rad=0.1), {"sigma_rad": BAD["positive"]}),
+    Probe(heading_sensor, lambda: dict(sigma_rad=0.1), {"sigma_rad": BAD["positive"], "corrects_bias": WRONG_TYPE}),
     Probe(earth_field_ned, lambda: dict(strength=0.5, inclination_rad=1.0),
           {"strength": BAD["positive"], "inclination_rad": BAD["finite"], "declination_rad": BAD["finite"]}),
     # estimators

@@ -127,17 +127,21 @@ def _heading_only_jacobian(x, m_b):
     return J
 
 
-def heading_sensor(sigma_rad: float) -> Sensor:
+def heading_sensor(sigma_rad: float, corrects_bias: bool = False) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
     attitude, its horizontal angle east of north [rad]. The measurement is the local declination
-    (where the field should point). It corrects the heading only, never the gyro bias (error
-    states 3–5 are ``uncorrected``): a field that drifts as the sensor moves would otherwise be
-    learnt as a bias and turn the heading long after (VQF keeps the magnetometer out of its bias
-    estimate for the same reason)."""
+    (where the field should point). By default it corrects the heading only, never the gyro bias
+    (error states 3–5 are ``uncorrected``): a field that drifts as the sensor moves would
+    otherwise be learnt as a bias and turn the heading long after (VQF keeps the magnetometer out
+    of its bias estimate for the same reason). ``corrects_bias`` gives the ordinary update, whose
+    optimal gain the RTS smoother assumes."""
     as_positive("sigma_rad", sigma_rad)
+    if not isinstance(corrects_bias, bool):
+        raise TypeError(f"corrects_bias: expected True or False, got {corrects_bias!r}")
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
                   h=_field_heading, H=_heading_only_jacobian, R=np.full((1, 1), sigma_rad**2),
-                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)), uncorrected=(3, 4, 5))
+                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)),
+                  uncorrected=() if corrects_bias else (3, 4, 5))
 
 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:
@@ -284,16 +288,17 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
         raise TypeError(f"offline: expected True or False, got {offline!r}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
     if params.accel_tau_s is None:
-        run, model = _orientation_pass(log, params, declination_rad, log.accel)
+        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline)
     else:
         tau, shock = params.accel_tau_s, params.accel_shock_m_s2
-        first, _ = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, shock_m_s2=shock))
+        raw_gravity = inertial_lowpass(log, tau, shock_m_s2=shock)
+        first, _ = _orientation_pass(log, params, declination_rad, raw_gravity, offline)
         gravity = inertial_lowpass(log, tau, first.x[:, 4:], shock, two_sided=offline)
-        run, model = _orientation_pass(log, params, declination_rad, gravity)
+        run, model = _orientation_pass(log, params, declination_rad, gravity, offline)
     return rts_smooth(model, run, log.gyro) if offline else run
 
 
-def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity):
+def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool):
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     field_n = None
@@ -314,7 +319,8 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
     measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2), log.t, accel)]
     if has_mag:
         context = np.where(good_m[:, None], log.mag, np.nan)
-        measurements.append(Measurements(heading_sensor(params.heading_sigma_rad), log.t,
+        # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal
+        measurements.append(Measurements(heading_sensor(params.heading_sigma_rad, corrects_bias=offline), log.t,
                                          np.full(len(log), declination_rad), context=context))
     if params.rest_min_s is not None:
         rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)

@@ -185,3 +185,9 @@ def test_the_magnetometer_turns_the_heading_and_never_the_bias():
     ekf.update_sensor(heading_sensor(0.1), [0.0], context=m_b)
     assert np.array_equal(ekf.estimate[4:], x0[4:])
     assert not np.allclose(ekf.estimate[:4], x0[:4], atol=1e-3)  # the attitude turned
+
+
+def test_the_offline_pass_uses_the_ordinary_heading_update():
+    from quadlib.attitude.orientation import heading_sensor
+
+    assert heading_sensor(0.1).uncorrected == (3, 4, 5) and heading_sensor(0.1, corrects_bias=True).uncorrected == ()
