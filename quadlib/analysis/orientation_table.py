@@ -18,6 +18,7 @@ import numpy as np
 from quadlib.analysis.metrics import broad_errors
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.orientation import estimate_orientation
+from quadlib.data.broad import ENU_TO_NED
 from quadlib.fixedwing.estimate import error_state_ukf, estimate_fixedwing_attitude, salmony_ekf
 from quadlib.fixedwing.model import FixedWingNoise
 from quadlib.geometry.quaternion import quat_conjugate, quat_multiply
@@ -25,12 +26,10 @@ from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.validation import as_positive
 
-__all__ = ["ENU_TO_NED_Q", "NWU_TO_NED_Q", "error_components", "estimator_names", "field_at_rest",
+__all__ = ["NWU_TO_NED", "error_components", "estimator_names", "field_at_rest",
            "orientation_estimate", "score_estimators"]
 
-ENU_TO_NED_Q = np.array([0.0, np.sqrt(0.5), np.sqrt(0.5), 0.0])
-"""ENU → NED: 180° about the east-north bisector (also :data:`quadlib.data.broad.ENU_TO_NED`)."""
-NWU_TO_NED_Q = np.array([0.0, 1.0, 0.0, 0.0])
+NWU_TO_NED = np.array([0.0, 1.0, 0.0, 0.0])
 """NWU → NED: 180° about north."""
 
 UT_PER_GAUSS = 100.0
@@ -86,7 +85,7 @@ def _vqf(kind):
             q = vqf.offlineVQF(gyr, acc, mag, Ts)["quat9D"]
         else:
             q = getattr(vqf, kind)(Ts).updateBatch(gyr, acc, mag)["quat9D"]
-        return quat_multiply(ENU_TO_NED_Q, q)
+        return quat_multiply(ENU_TO_NED, q)
     return estimate
 
 
@@ -96,8 +95,8 @@ def _ahrs(kind):
 
         Ts, gyr, acc, mag = _arrays(log)
         if kind == "Madgwick":
-            return quat_multiply(NWU_TO_NED_Q, Madgwick(gyr=gyr, acc=acc, mag=mag, frequency=1 / Ts).Q)
-        return quat_multiply(ENU_TO_NED_Q, Mahony(gyr=gyr, acc=acc, mag=mag, frequency=1 / Ts).Q)
+            return quat_multiply(NWU_TO_NED, Madgwick(gyr=gyr, acc=acc, mag=mag, frequency=1 / Ts).Q)
+        return quat_multiply(ENU_TO_NED, Mahony(gyr=gyr, acc=acc, mag=mag, frequency=1 / Ts).Q)
     return estimate
 
 
