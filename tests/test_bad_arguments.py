@@ -77,7 +77,7 @@ from quadlib.attitude import (
 )
 from quadlib.attitude.bias_model import as_attitude_state
 from quadlib.constants import earth_field_ned
-from quadlib.data import data_path, load_broad_trial
+from quadlib.data import data_path, load_broad_trial, load_px4_log, load_ulog
 from quadlib.fixedwing import (
     FixedWingNoise,
     FixedWingTuning,
@@ -112,6 +112,8 @@ from quadlib.geometry import (
     average_rotvec,
     dcm_dyaw,
     euler_rate_matrix,
+    geodetic_to_ecef,
+    geodetic_to_ned,
     integrate_body_rate_linear,
     quat_canonical,
     quat_conjugate,
@@ -353,12 +355,22 @@ PROBES = [
           lambda: dict(log=fixedwing_samples(fixedwing_flight(rate_hz=10.0), FixedWingNoise(),
                                              np.random.default_rng(0)).slice(0, 60), noise=FixedWingNoise()),
           {"log": WRONG_TYPE, "noise": _wrong_type(FixedWingNoise), "filter_factory": WRONG_TYPE,
-           "declination_rad": BAD["finite"], "inclination_rad": BAD["finite"]}),
+           "inclination_rad": BAD["finite"], "prefilter_hz": BAD["positive"],
+           "tuning": _wrong_type(FixedWingTuning)}),
     # data
-    Probe(data_path, lambda: dict(name="broad/trials.json"),
-          {"name": st.sampled_from(["../../etc/passwd", "", None, 3.0, "broad/no_such_file.hdf5"])}),
-    Probe(load_broad_trial, lambda: dict(name="02_undisturbed_slow_rotation_A"),
-          {"name": st.sampled_from(["99_no_such_trial", "", None, 3.0])}),
+    Probe(data_path, lambda: dict(relative="broad/trials.json"),
+          {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
+    Probe(load_broad_trial, lambda: dict(trial="02_undisturbed_slow_rotation_B"),
+          {"trial": st.sampled_from([None, 3.0, b"02"])}),
+    Probe(load_px4_log, lambda: dict(log="px4/01_07_59.px4log"),
+          {"log": st.sampled_from([None, 3.0, "px4/sample.ulg", "flight.bin"])}),
+    Probe(load_ulog, lambda: dict(log="px4/sample.ulg"),
+          {"log": st.sampled_from([None, 3.0, "px4/01_07_59.px4log"])}),
+    Probe(geodetic_to_ned, lambda: dict(lla=[40.0, -86.0, 200.0], origin=[40.0, -86.0, 200.0]),
+          {"lla": st.sampled_from([[40.0, -86.0], [91.0, 0.0, 0.0], [0.0, 181.0, 0.0], [NAN, 0.0, 0.0], "p"]),
+           "origin": st.sampled_from([[[40.0, -86.0, 200.0]], [-91.0, 0.0, 0.0], [INF, 0.0, 0.0], None])}),
+    Probe(geodetic_to_ecef, lambda: dict(lla=[40.0, -86.0, 200.0]),
+          {"lla": st.sampled_from([[40.0, -86.0], [91.0, 0.0, 0.0], [NAN, 0.0, 0.0], "p"])}),
 ]
 
 # --- the rest of the API ------------------------------------------------------------------------
@@ -692,7 +704,7 @@ PROBES += [
 
 RESULT = "a result quadlib builds and returns (read it, do not build it)"
 NOT_PROBED = {
-    "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FilterRun": RESULT,
+    "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT, "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,
     "MonteCarloRuns": RESULT, "Run3D": RESULT, "SensorTrace": RESULT, "VerticalRun": RESULT,
     "ModelFilter": "the abstract base of LinearKF, ModelEKF and ModelUKF (probed)",
@@ -722,6 +734,7 @@ CASES = [(probe, arg) for probe in PROBES for arg in probe.kinds]
 @given(data=st.data())
 def test_a_bad_argument_gets_a_named_error(probe, arg, data):
     kwargs = probe.args()
+    assert arg in inspect.signature(probe.func).parameters, f"{probe.func.__name__} has no argument {arg!r}"
     value = data.draw(probe.kinds[arg], label=arg)
     kwargs[arg] = value
     try:

@@ -193,6 +193,7 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
         raise TypeError(f"noise: expected a FixedWingNoise, got {type(noise).__name__}")
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as salmony_ekf, got {filter_factory!r}")
+    tuning = as_instance("tuning", tuning, FixedWingTuning)
     incl = noise.inclination_rad if inclination_rad is None else as_finite_number("inclination_rad", inclination_rad)
     dt = float(log.t[1] - log.t[0])
     filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)

@@ -1,5 +1,6 @@
 """Rotations: quaternions, rotation matrices and Euler angles, attitude from vector measurements."""
 
+from .geodetic import geodetic_to_ecef, geodetic_to_ned
 from .quaternion import (
     UNIT_TOLERANCE,
     as_unit_quaternions,
@@ -39,6 +40,8 @@ from .vector_attitude import (
 )
 
 __all__ = [
+    "geodetic_to_ecef",
+    "geodetic_to_ned",
     "AbsoluteAttitude",
     "FREE_FALL_M_S2",
     "UNIT_TOLERANCE",
