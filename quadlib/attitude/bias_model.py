@@ -21,7 +21,7 @@ from quadlib.imu import gyro_saturation_noise
 from quadlib.model import Model
 from quadlib.validation import as_positive, as_vector
 
-__all__ = ["GYRO_NAMES", "STATE_NAMES", "as_attitude_state", "attitude_bias_model", "gyro_step",
+__all__ = ["GYRO_NAMES", "STATE_NAMES", "as_attitude_state", "attitude_bias_model", "gyro_error_jacobians", "gyro_step",
            "gyro_step_jacobian", "normalize_attitude", "normalize_attitude_jacobian", "quaternion_rate_matrix"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
@@ -114,19 +114,23 @@ def _skew(v):
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
-def _error_jacobian(x, u, dt):
-    """``∂δx_{k+1}/∂δx_k`` for ``q ⊞ δθ = q ⊗ exp(δθ)`` and the step ``φ = (ω − b) Δt``: the error
-    turns back with the step (``R(φ)ᵀ``), and the bias error enters through SO(3)'s right Jacobian,
-    ``−Δt J_r(φ)``, ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``."""
-    phi = (u - x[4:]) * dt
+def gyro_error_jacobians(phi, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """How an attitude error ``δθ`` (``q ⊗ exp(δθ)``) and a gyro-bias error ``δb`` move through one gyro
+    step ``φ = (ω − b) Δt``: ``∂δθ⁺/∂δθ = R(φ)ᵀ`` (the error turns back with the step) and
+    ``∂δθ⁺/∂δb = −Δt J_r(φ)``, SO(3)'s right Jacobian
+    ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``. Unchecked (a model's ``G``)."""
     theta, K = float(np.linalg.norm(phi)), _skew(phi)
     if theta > 1e-6:
         a, b = (1.0 - np.cos(theta)) / theta**2, (theta - np.sin(theta)) / theta**3
     else:  # the series of both coefficients
         a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
+    return kernels.dcm(kernels.exp_rotvec(phi)).T, -dt * (np.eye(3) - a * K + b * K @ K)
+
+
+def _error_jacobian(x, u, dt):
+    """``∂δx_{k+1}/∂δx_k`` for ``[δθ, δb]``: :func:`gyro_error_jacobians`, the bias error constant."""
     G = np.eye(6)
-    G[:3, :3] = kernels.dcm(kernels.exp_rotvec(phi)).T
-    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * K @ K)
+    G[:3, :3], G[:3, 3:] = gyro_error_jacobians((u - x[4:]) * dt, dt)
     return G
 
 

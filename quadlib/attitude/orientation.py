@@ -116,32 +116,46 @@ def _field_heading(x, m_b):
     return np.array([np.arctan2(m_n[1], m_n[0])])
 
 
-def _heading_only_jacobian(x, m_b):
+def _heading_only_jacobian(dim_x: int):
     """The heading's Jacobian restricted to turns about the vertical: in error coordinates
     ``∂ψ/∂δθ = R(q)[2, :]`` (a body turn ``δθ`` turns the earth frame by ``R δθ``, whose down
-    component is the heading change), ``0`` for the biases. Written with respect to ``x`` through
-    ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The innovation can then turn the attitude about
-    the vertical only: a heading computed with a slightly wrong tilt cannot tilt the estimate."""
-    J = np.zeros((1, 7))
-    J[0, :4] = kernels.dcm(x[:4])[2] @ (2.0 * kernels.rate_matrix(x[:4]).T)
-    return J
+    component is the heading change), ``0`` for every other state. Written with respect to ``x``
+    (the quaternion in ``x[:4]``) through ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The
+    innovation can then turn the attitude about the vertical only: a heading computed with a
+    slightly wrong tilt cannot tilt the estimate. (The price: the heading's error from a tilt error,
+    about tan(dip) times it, is not in the model; where the tilt error is large against the
+    heading's noise the filter then trusts its heading too much — chapter 14 measures it.)"""
+
+    def H(x, m_b):
+        J = np.zeros((1, dim_x))
+        J[0, :4] = kernels.dcm(x[:4])[2] @ (2.0 * kernels.rate_matrix(x[:4]).T)
+        return J
+
+    return H
 
 
-def heading_sensor(sigma_rad: float, corrects_bias: bool = False) -> Sensor:
+def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int = 7,
+                   gyro_bias_errors: tuple[int, ...] = (3, 4, 5)) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
     attitude, its horizontal angle east of north [rad]. The measurement is the local declination
     (where the field should point). By default it corrects the heading only, never the gyro bias
-    (error states 3–5 are ``uncorrected``): a field that drifts as the sensor moves would
-    otherwise be learnt as a bias and turn the heading long after (VQF keeps the magnetometer out
-    of its bias estimate for the same reason). ``corrects_bias`` gives the ordinary update, whose
-    optimal gain the RTS smoother assumes."""
+    (error states ``gyro_bias_errors`` are ``uncorrected``): a field that drifts as the sensor
+    moves would otherwise be learnt as a bias and turn the heading long after (VQF keeps the
+    magnetometer out of its bias estimate for the same reason). ``corrects_bias`` gives the
+    ordinary update, whose optimal gain the RTS smoother assumes.
+
+    The state holds the attitude quaternion in ``x[:4]``; ``dim_x`` is its length (7 for
+    ``[q, b]``; the inertial navigation filter's 16, with its gyro bias errors at 9–11).
+    """
     as_positive("sigma_rad", sigma_rad)
     if not isinstance(corrects_bias, bool):
         raise TypeError(f"corrects_bias: expected True or False, got {corrects_bias!r}")
+    if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
+        raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
-                  h=_field_heading, H=_heading_only_jacobian, R=np.full((1, 1), sigma_rad**2),
+                  h=_field_heading, H=_heading_only_jacobian(int(dim_x)), R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)),
-                  uncorrected=() if corrects_bias else (3, 4, 5))
+                  uncorrected=() if corrects_bias else tuple(gyro_bias_errors))
 
 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:

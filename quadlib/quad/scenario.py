@@ -17,12 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.attitude.complementary import euler_rate_complementary
+from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.quad.flight import (
     Flight3D,
     SensorNoise3D,
     baro_samples,
     gps_samples,
+    mag_field_samples,
     mag_yaw_samples,
 )
 from quadlib.quad.quad3d import imu_inputs
@@ -30,7 +32,7 @@ from quadlib.samples import Measurements, Samples
 from quadlib.sim.imu import imu_samples
 from quadlib.validation import as_instance
 
-__all__ = ["Run3D", "run3d_measurements", "simulate_run3d"]
+__all__ = ["Run3D", "imu_with_magnetometer", "run3d_measurements", "simulate_run3d"]
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,8 @@ class Run3D:
     truth : (M, 7) true ``[x, y, z, ẋ, ẏ, ż, ψ]``
     true_roll_pitch, roll_pitch : (M, 2) true and complementary-filter roll and pitch [rad]
     gps, mag, baro : Samples within ``[t[0], t[-1]]``
+    imu : ImuLog
+        The IMU samples at the flight's rate (gyro, accelerometer; no magnetometer).
     """
 
     t: np.ndarray
@@ -54,6 +58,7 @@ class Run3D:
     gps: Samples
     mag: Samples
     baro: Samples
+    imu: ImuLog
 
 
 def _clip(samples: Samples, t_end: float) -> Samples:
@@ -80,7 +85,7 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     t = flight.t[k]
     truth = np.column_stack([flight.pos[k], flight.vel[k], flight.euler[k, 2]])
     return Run3D(t=t, u=u, truth=truth, true_roll_pitch=flight.euler[k, :2], roll_pitch=cf[k],
-                 gps=_clip(gps, t[-1]), mag=_clip(mag, t[-1]), baro=_clip(baro, t[-1]))
+                 gps=_clip(gps, t[-1]), mag=_clip(mag, t[-1]), baro=_clip(baro, t[-1]), imu=imu)
 
 
 def run3d_measurements(run: Run3D, gps_sensor, mag_sensor, baro_sensor=None) -> list[Measurements]:
@@ -93,3 +98,14 @@ def run3d_measurements(run: Run3D, gps_sensor, mag_sensor, baro_sensor=None) -> 
     if baro_sensor is not None:
         out.append(Measurements(baro_sensor, run.baro.t, run.baro.z))
     return out
+
+
+def imu_with_magnetometer(run: Run3D, flight: Flight3D, noise: SensorNoise3D, rng) -> ImuLog:
+    """The run's IMU log with a three-axis magnetometer (:func:`~quadlib.quad.flight.mag_field_samples`,
+    drawn now from ``rng``) in the rows of its samples, NaN in the others: what the inertial
+    navigation filter reads where the 7-state EKF reads a heading."""
+    run, flight = as_instance("run", run, Run3D), as_instance("flight", flight, Flight3D)
+    field = mag_field_samples(flight, noise, rng)
+    mag = np.full((flight.t.size, 3), np.nan)
+    mag[np.searchsorted(flight.t, field.t)] = field.z
+    return ImuLog(run.imu.t, run.imu.gyro, run.imu.accel, mag)

@@ -1,0 +1,371 @@
+"""An inertial navigation system: one error-state EKF over attitude, velocity, position and the IMU's biases.
+
+What an autopilot runs (PX4's EKF2, ArduPilot's EKF3), reduced to its core. The IMU drives the
+prediction — the gyro turns the attitude, the accelerometer, turned into the earth frame, changes
+the velocity — and GPS, the barometer and the magnetometer correct it.
+
+State ``x`` (16): ``[q_nb (4), v (3) NED m/s, p (3) NED m, b_g (3) rad/s, b_a (3) m/s²]``, quaternion
+first as in EKF2. Error ``δx`` (15): ``[δθ, δv, δp, δb_g, δb_a]`` with ``q ⊗ exp(δθ)`` (a small body
+rotation) and plain differences for the rest. Input ``u = [ω_m (3) rad/s, f_m (3) m/s²]``: one gyro and
+accelerometer sample (or the mean of a block of them). One step of length ``Δt``, with
+``ω = ω_m − b_g``, ``f = f_m − b_a`` and ``R = R(q)`` at the start of the step:
+
+.. math::
+
+    q^+ = q \\otimes \\exp(\\omega\\,\\Delta t), \\quad a = R f + g_n, \\quad
+    v^+ = v + a\\,\\Delta t, \\quad p^+ = p + v\\,\\Delta t + \\tfrac12 a\\,\\Delta t^2
+
+Its error Jacobian (``[f]×`` the cross-product matrix; the attitude rows are those of the
+attitude-and-bias model, :func:`~quadlib.attitude.bias_model.gyro_error_jacobians`):
+
+.. math::
+
+    \\frac{\\partial \\delta v^+}{\\partial \\delta\\theta} = -\\Delta t\\, R [f]_\\times, \\quad
+    \\frac{\\partial \\delta v^+}{\\partial \\delta b_a} = -\\Delta t\\, R, \\quad
+    \\frac{\\partial \\delta p^+}{\\partial(\\delta\\theta, \\delta b_a)} =
+    \\tfrac{\\Delta t}{2} \\frac{\\partial \\delta v^+}{\\partial(\\delta\\theta, \\delta b_a)}, \\quad
+    \\frac{\\partial \\delta p^+}{\\partial \\delta v} = \\Delta t\\, I
+
+(``R exp([δθ]×) f ≈ R f − R [f]× δθ``: a tilt error leaks gravity into the horizontal acceleration,
+which is how GPS velocity corrects roll and pitch.) Lever arms (GPS antenna and IMU apart) and the
+earth's rotation are left out: over a 70 s flight with the antenna a few centimetres from the IMU
+both are far below the GPS noise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.attitude.bias_model import gyro_error_jacobians
+from quadlib.attitude.checks import SensorChecks, plausible_mag
+from quadlib.attitude.orientation import heading_sensor
+from quadlib.constants import GRAVITY_N
+from quadlib.filters import ModelEKF
+from quadlib.geometry import kernels
+from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_dcm, quat_to_rotvec
+from quadlib.geometry.vector_attitude import attitude_from_accel_mag
+from quadlib.imu import ImuLog
+from quadlib.model import Model, Sensor
+from quadlib.replay import FilterRun, rts_smooth, run_filter
+from quadlib.samples import Measurements, Samples
+from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
+
+__all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
+           "ins_gps_sensor", "ins_initial_state", "ins_model"]
+
+STATE_NAMES = ("q0", "q1", "q2", "q3", "vn [m/s]", "ve [m/s]", "vd [m/s]", "pn [m]", "pe [m]", "pd [m]",
+               "bg_x [rad/s]", "bg_y [rad/s]", "bg_z [rad/s]", "ba_x [m/s2]", "ba_y [m/s2]", "ba_z [m/s2]")
+ERROR_NAMES = ("dtheta_x", "dtheta_y", "dtheta_z", "dvn", "dve", "dvd", "dpn", "dpe", "dpd",
+               "dbg_x", "dbg_y", "dbg_z", "dba_x", "dba_y", "dba_z")
+INPUT_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]", "fx [m/s2]", "fy [m/s2]", "fz [m/s2]")
+Q_, V, P, BG, BA = slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(13, 16)  # in x
+GYRO_BIAS_ERRORS = (9, 10, 11)
+
+
+def _skew(v):
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _step(x, u, dt):
+    q = x[Q_]
+    f = u[3:] - x[BA]
+    a = kernels.dcm(q) @ f + GRAVITY_N
+    out = x.copy()
+    out[Q_] = kernels.multiply(q, kernels.exp_rotvec((u[:3] - x[BG]) * dt))
+    out[V] = x[V] + a * dt
+    out[P] = x[P] + x[V] * dt + 0.5 * a * dt * dt
+    return out
+
+
+def _error_jacobian(x, u, dt):
+    R = kernels.dcm(x[Q_])
+    f = u[3:] - x[BA]
+    F = np.eye(15)
+    F[0:3, 0:3], F[0:3, 9:12] = gyro_error_jacobians((u[:3] - x[BG]) * dt, dt)
+    dv_dtheta, dv_dba = -dt * R @ _skew(f), -dt * R
+    F[3:6, 0:3], F[3:6, 12:15] = dv_dtheta, dv_dba
+    F[6:9, 0:3], F[6:9, 12:15] = 0.5 * dt * dv_dtheta, 0.5 * dt * dv_dba
+    F[6:9, 3:6] = dt * np.eye(3)
+    return F
+
+
+def _add_error(x, e):
+    out = x.copy()
+    out[Q_] = kernels.multiply(x[Q_], kernels.exp_rotvec(e[0:3]))
+    out[4:] = x[4:] + e[3:]
+    return out
+
+
+def _error_between(x1, x0):
+    return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(x0[Q_]), x1[Q_])), x1[4:] - x0[4:]])
+
+
+def _add_jacobian(x):
+    J = np.zeros((16, 15))
+    J[0:4, 0:3] = 0.5 * kernels.rate_matrix(x[Q_])
+    J[4:, 3:] = np.eye(12)
+    return J
+
+
+def _normalized(x):
+    out = x.copy()
+    out[Q_] = kernels.normalize(x[Q_])
+    return out
+
+
+def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_rad_s_sqrt_s: float,
+              accel_bias_walk_m_s2_sqrt_s: float) -> Model:
+    """The inertial navigation model (module documentation) with white input noise.
+
+    ``gyro_sigma_rad_s`` and ``accel_sigma_m_s2`` (one σ, or one per axis) are the σ of one input
+    sample; over a step they
+    enter the attitude as ``σ_g Δt`` and the velocity as ``σ_a Δt`` (and the position as
+    ``σ_a Δt²/2``, fully correlated with it). The biases walk by ``σ √Δt`` per step.
+    """
+    sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
+    sa = as_finite_array("accel_sigma_m_s2", accel_sigma_m_s2)
+    if sa.shape not in ((), (1,), (3,)) or np.any(sa <= 0):
+        raise ValueError(f"accel_sigma_m_s2: expected one positive σ or three (x, y, z), got {accel_sigma_m_s2!r}")
+    sa = np.broadcast_to(sa, (3,))
+    sbg = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
+    sba = as_positive("accel_bias_walk_m_s2_sqrt_s", accel_bias_walk_m_s2_sqrt_s)
+
+    def Q(dt):
+        Qm = np.zeros((15, 15))
+        i3 = np.eye(3)
+        Qm[0:3, 0:3] = (sg * dt) ** 2 * i3
+        w = np.array([[dt, 0.5 * dt**2]])  # velocity and position share one acceleration error
+        Qm[3:9, 3:9] = np.kron(w.T @ w, np.diag(sa**2))  # isotropic in the body: the same in NED
+        Qm[9:12, 9:12] = sbg**2 * dt * i3
+        Qm[12:15, 12:15] = sba**2 * dt * i3
+        return Qm
+
+    return Model(state_names=STATE_NAMES, input_names=INPUT_NAMES, g=_step, G=_error_jacobian, Q=Q,
+                 error_names=ERROR_NAMES, state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
+                 normalize=_normalized, name="inertial navigation, error state")
+
+
+def ins_gps_sensor(pos_sigma_m, vel_sigma_m_s, use_height: bool = True, reset_after_s: float | None = 1.0) -> Sensor:
+    """GPS position and velocity, NED: ``h(x) = [p, v]``; position and velocity gated apart, each
+    reset after ``reset_after_s`` of rejection (as :func:`quadlib.quad.quad3d_gps_sensor`).
+
+    ``use_height=False`` leaves the GPS height out (5 components: north, east and the velocity):
+    the barometer is then the height reference, as in PX4's default.
+    """
+    sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
+    if np.any(sigma <= 0):
+        raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
+    if not isinstance(use_height, bool):
+        raise TypeError(f"use_height: expected True or False, got {use_height!r}")
+    rows = [0, 1, 2, 3, 4, 5] if use_height else [0, 1, 3, 4, 5]
+    index = np.r_[P, V][rows]  # state index of each component
+    H = np.zeros((len(rows), 16))
+    H[np.arange(len(rows)), index] = 1.0
+    names = np.array(["pn [m]", "pe [m]", "pd [m]", "vn [m/s]", "ve [m/s]", "vd [m/s]"])[rows]
+    n_pos = 3 if use_height else 2
+    return Sensor(name="gps", measurement_names=tuple(names), h=lambda x: x[index], H=lambda x: H,
+                  R=np.diag(sigma[rows] ** 2), groups=(tuple(range(n_pos)), tuple(range(n_pos, len(rows)))),
+                  reset_after_s=reset_after_s)
+
+
+def ins_baro_sensor(sigma_m: float) -> Sensor:
+    """Barometric height above the origin [m]: ``h(x) = −p_d``."""
+    H = np.zeros((1, 16))
+    H[0, 9] = -1.0
+    return Sensor(name="baro", measurement_names=("height [m]",), h=lambda x: -x[9:10], H=lambda x: H,
+                  R=np.full((1, 1), as_positive("sigma_m", sigma_m) ** 2))
+
+
+@dataclass(frozen=True)
+class InsParams:
+    """Parameters of :func:`estimate_ins`, each with its unit. The defaults suit a small multirotor
+    with a MEMS IMU and a consumer GPS receiver; chapter 14 measures them on a real flight.
+
+    Parameters
+    ----------
+    gyro_sigma_rad_s : float
+        White noise of one gyro sample at the log's rate [rad/s] (with the motors running,
+        vibration included). Averaging ``decimate`` samples divides it by √decimate, as for:
+    accel_sigma_m_s2 : float or (3,) tuple
+        White noise of one accelerometer sample [m/s²], one value or one per body axis.
+    gyro_bias_walk_rad_s_sqrt_s, accel_bias_walk_m_s2_sqrt_s : float
+        Random walk of the biases [unit/√s].
+    gps_pos_sigma_m, gps_vel_sigma_m_s : (3,) tuples
+        GPS noise per NED axis.
+    use_gps_height : bool
+        Fuse the GPS height; False leaves the height to the barometer.
+    baro_sigma_m : float
+        Barometer noise [m].
+    heading_sigma_rad : float
+        Noise of the magnetometer's heading [rad].
+    gps_delay_s : float
+        How long a fix is old when it is logged [s]: each fix is applied at its time minus this
+        (PX4's ``EKF2_GPS_DELAY``). Replaying a log, the filter can simply apply it earlier.
+    gate_probability : float or None
+        χ² gate on every update (:func:`quadlib.run_filter`); GPS groups reset after 1 s rejected.
+    initial_tilt_sigma_rad, initial_heading_sigma_rad : float
+        σ of the first attitude (from the accelerometer and magnetometer).
+    initial_gyro_bias_sigma_rad_s, initial_accel_bias_sigma_m_s2 : float
+        σ of the biases at the start (both start at zero).
+    """
+
+    gyro_sigma_rad_s: float = 0.02
+    accel_sigma_m_s2: float = 0.5
+    gyro_bias_walk_rad_s_sqrt_s: float = 1e-4
+    accel_bias_walk_m_s2_sqrt_s: float = 1e-3
+    gps_pos_sigma_m: tuple = (0.7, 0.7, 2.0)
+    gps_vel_sigma_m_s: tuple = (0.1, 0.1, 0.3)
+    use_gps_height: bool = True
+    baro_sigma_m: float = 0.5
+    heading_sigma_rad: float = 0.05
+    gps_delay_s: float = 0.0
+    gate_probability: float | None = 0.9999
+    initial_tilt_sigma_rad: float = 0.05
+    initial_heading_sigma_rad: float = 0.2
+    initial_gyro_bias_sigma_rad_s: float = 0.02
+    initial_accel_bias_sigma_m_s2: float = 0.2
+
+    def __post_init__(self):
+        check_fields(self, {"gyro_sigma_rad_s": "positive", "accel_sigma_m_s2": "positive or 3",
+                            "gyro_bias_walk_rad_s_sqrt_s": "positive", "accel_bias_walk_m_s2_sqrt_s": "positive",
+                            "gps_pos_sigma_m": "positive or 3", "gps_vel_sigma_m_s": "positive or 3",
+                            "baro_sigma_m": "positive", "heading_sigma_rad": "positive", "gps_delay_s": "nonnegative",
+                            "gate_probability": "optional probability", "initial_tilt_sigma_rad": "positive",
+                            "initial_heading_sigma_rad": "positive", "initial_gyro_bias_sigma_rad_s": "positive",
+                            "initial_accel_bias_sigma_m_s2": "positive"})
+        if not isinstance(self.use_gps_height, bool):
+            raise TypeError(f"InsParams.use_gps_height: expected True or False, got {self.use_gps_height!r}")
+
+    def model(self, decimate: int = 1) -> Model:
+        """The INS model for inputs that average ``decimate`` IMU samples."""
+        root = float(np.sqrt(decimate))
+        return ins_model(self.gyro_sigma_rad_s / root, np.asarray(self.accel_sigma_m_s2, dtype=float) / root,
+                         self.gyro_bias_walk_rad_s_sqrt_s, self.accel_bias_walk_m_s2_sqrt_s)
+
+    def initial_covariance(self, position_sigma_m, velocity_sigma_m_s) -> np.ndarray:
+        """``P0`` over ``[δθ, δv, δp, δb_g, δb_a]``: the tilt's and heading's σ (the heading about
+        body z, a fair stand-in for the earth's vertical at small tilts), and the first fix's σ."""
+        sigma = np.concatenate([[self.initial_tilt_sigma_rad] * 2 + [self.initial_heading_sigma_rad],
+                                as_vector("velocity_sigma_m_s", velocity_sigma_m_s, 3),
+                                as_vector("position_sigma_m", position_sigma_m, 3),
+                                [self.initial_gyro_bias_sigma_rad_s] * 3, [self.initial_accel_bias_sigma_m_s2] * 3])
+        return np.diag(sigma**2)
+
+
+def imu_blocks(log: ImuLog, decimate: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """The INS's time grid and inputs ``(t, u)``: ``u = [gyro, accel]`` averaged over blocks of
+    ``decimate`` samples (a block holds from its first sample's time to the next block's), the
+    last incomplete block dropped. A block with a missing sample is missing (NaN; held by
+    :func:`~quadlib.run_filter`)."""
+    log = as_instance("log", log, ImuLog)
+    n = len(log)
+    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or not 1 <= decimate <= n // 2:
+        raise ValueError(f"decimate: expected an int in [1, {n // 2}] (at least two blocks), got {decimate!r}")
+    m = n // decimate
+    u = np.hstack([log.gyro, log.accel])[: m * decimate].reshape(m, decimate, 6).mean(axis=1)
+    return log.t[: m * decimate : decimate].copy(), u
+
+
+def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 0.0, n_average: int = 20) -> np.ndarray:
+    """``x0``: the attitude from the mean of the first ``n_average`` accelerometer and magnetometer
+    samples (Kesten eqs. 2.2–2.5, turned by the declination), the given position and velocity, biases
+    zero. Without a magnetometer the heading starts at north."""
+    log = as_instance("log", log, ImuLog)
+    declination_rad = as_finite_number("declination_rad", declination_rad)
+    f = np.nanmean(log.accel[:n_average], axis=0)
+    m = np.array([1.0, 0.0, 0.0]) if log.mag is None else np.nanmean(log.mag[:n_average * 5], axis=0)
+    if log.mag is None:  # a field along body x: the heading is the body's
+        m = quat_to_dcm(attitude_from_accel_mag(f[None], [[1.0, 0.0, 0.0]]).q_nb[0]).T @ [1.0, 0.0, 0.0]
+    start = attitude_from_accel_mag(f[None], m[None])
+    if not start.valid[0]:
+        raise ValueError(f"log: expected the first {n_average} samples to give an attitude (gravity and a field not "
+                         f"along it), got accel {f.round(3).tolist()}, mag {np.round(m, 3).tolist()}")
+    turn = np.array([np.cos(declination_rad / 2), 0.0, 0.0, np.sin(declination_rad / 2)])
+    q0 = quat_multiply(turn, start.q_nb[0])
+    return np.concatenate([q0, as_vector("velocity", velocity, 3), as_vector("position", position, 3), np.zeros(6)])
+
+
+def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params: InsParams = InsParams(), *,
+                 decimate: int = 1, offline: bool = False, declination_rad: float = 0.0,
+                 baro_offset_m: float | None = None, x0=None) -> FilterRun:
+    """Attitude, velocity, position and IMU biases from an IMU log, GPS and (optionally) a barometer.
+
+    Parameters
+    ----------
+    log : ImuLog
+        Gyro, accelerometer and (optionally) magnetometer, FRD; NaN rows are missing samples.
+    gps : Samples
+        ``[pn, pe, pd, vn, ve, vd]`` (NED m and m/s, as :func:`quadlib.data.load_px4_log` gives
+        them); NaN rows are missing fixes. The first fix starts the filter.
+    baro : Samples, optional
+        Barometric altitude [m]; only its changes matter (see ``baro_offset_m``).
+    params : InsParams
+    decimate : int
+        IMU samples averaged per filter step (:func:`imu_blocks`).
+    offline : bool
+        Smooth with the Rauch–Tung–Striebel backward pass in error-state form
+        (:func:`quadlib.rts_smooth`): each estimate then uses the whole log.
+    declination_rad : float
+        Magnetic declination [rad], east of true north.
+    baro_offset_m : float, optional
+        The barometer's reading at height 0 (down ``p_d = 0``); by default its mean over the first
+        second, minus the first fix's height.
+    x0 : (16,) array_like, optional
+        Initial state; by default :func:`ins_initial_state` at the first fix.
+
+    Returns
+    -------
+    FilterRun
+        On the filter's grid (``imu_blocks``): ``x`` (N, 16), ``P`` over the 15 error states.
+    """
+    log = as_instance("log", log, ImuLog)
+    gps = as_instance("gps", gps, Samples)
+    if gps.z.ndim != 2 or gps.z.shape[1] != 6:
+        raise ValueError(f"gps: expected samples of [pn, pe, pd, vn, ve, vd], shape (K, 6), got {gps.z.shape}")
+    if baro is not None:
+        baro = as_instance("baro", baro, Samples)
+    params = as_instance("params", params, InsParams)
+    if not isinstance(offline, bool):
+        raise TypeError(f"offline: expected True or False, got {offline!r}")
+    declination_rad = as_finite_number("declination_rad", declination_rad)
+    t, u = imu_blocks(log, decimate)
+    gps = Samples(gps.t - params.gps_delay_s, gps.z)
+    fixes = np.flatnonzero(~np.isnan(gps.z).any(axis=1) & (gps.t >= t[0]) & (gps.t <= t[-1]))
+    if not fixes.size:
+        raise ValueError(f"gps: expected at least one fix within the log's [{t[0]:.3f}, {t[-1]:.3f}] s, got none")
+    start = int(np.searchsorted(t, gps.t[fixes[0]]))
+    t, u = t[start:], u[start:]
+    if x0 is None:
+        x0 = ins_initial_state(log.slice(start * decimate), gps.z[fixes[0], :3], gps.z[fixes[0], 3:],
+                               declination_rad)
+    x0 = as_vector("x0", x0, 16)
+    P0 = params.initial_covariance(params.gps_pos_sigma_m, params.gps_vel_sigma_m_s)
+    model = params.model(decimate)
+    ekf = ModelEKF(model, x0, P0, float(np.median(np.diff(t))))
+
+    def within(s: Samples):
+        keep = (s.t >= t[0]) & (s.t <= t[-1])
+        return s.t[keep], s.z[keep]
+
+    gps_sensor = ins_gps_sensor(params.gps_pos_sigma_m, params.gps_vel_sigma_m_s, params.use_gps_height)
+    tg, zg = within(gps)
+    measurements = [Measurements(gps_sensor, tg, zg if params.use_gps_height else zg[:, [0, 1, 3, 4, 5]])]
+    if baro is not None:
+        tb, zb = within(baro)
+        if baro_offset_m is None:
+            first = tb <= tb[0] + 1.0
+            baro_offset_m = float(np.nanmean(zb[first])) + x0[9]
+        offset = as_finite_number("baro_offset_m", baro_offset_m)
+        measurements.append(Measurements(ins_baro_sensor(params.baro_sigma_m), tb, zb - offset))
+    if log.mag is not None:
+        mag_log = log.slice(start * decimate, (start + t.size - 1) * decimate + 1)  # t[0] … t[-1]
+        field_n = quat_to_dcm(x0[Q_]) @ np.nanmean(mag_log.mag[:100], axis=0)
+        good = plausible_mag(mag_log.mag, mag_log.accel, field_n, SensorChecks())
+        mag = np.where(good[:, None], mag_log.mag, np.nan)
+        heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
+                                 gyro_bias_errors=GYRO_BIAS_ERRORS)
+        measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
+    run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
+    return rts_smooth(model, run, u) if offline else run
