@@ -122,9 +122,7 @@ def _heading_only_jacobian(dim_x: int):
     component is the heading change), ``0`` for every other state. Written with respect to ``x``
     (the quaternion in ``x[:4]``) through ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The
     innovation can then turn the attitude about the vertical only: a heading computed with a
-    slightly wrong tilt cannot tilt the estimate. (The price: the heading's error from a tilt error,
-    about tan(dip) times it, is not in the model; where the tilt error is large against the
-    heading's noise the filter then trusts its heading too much — chapter 14 measures it.)"""
+    slightly wrong tilt cannot tilt the estimate."""
 
     def H(x, m_b):
         J = np.zeros((1, dim_x))
@@ -134,8 +132,26 @@ def _heading_only_jacobian(dim_x: int):
     return H
 
 
+def _field_heading_jacobian(dim_x: int):
+    """The heading's full Jacobian: ``m_n = R(q) m_b`` and ``R(q ⊗ exp δθ) ≈ R (I + [δθ]×)`` give
+    ``∂m_n/∂δθ = −R [m_b]×``, and ``∂ψ/∂m_n = [−m_n,y, m_n,x, 0] / (m_n,x² + m_n,y²)``; written with
+    respect to ``x`` through ``2 Ξ(q)ᵀ`` as above. A tilt error turns the measured heading as well,
+    by about tan(dip) times the tilt, and this Jacobian carries that into the innovation's variance."""
+
+    def H(x, m_b):
+        R = kernels.dcm(x[:4])
+        m_n = R @ m_b
+        d_psi = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
+        skew = np.array([[0.0, -m_b[2], m_b[1]], [m_b[2], 0.0, -m_b[0]], [-m_b[1], m_b[0], 0.0]])
+        J = np.zeros((1, dim_x))
+        J[0, :4] = (-d_psi @ R @ skew) @ (2.0 * kernels.rate_matrix(x[:4]).T)
+        return J
+
+    return H
+
+
 def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int = 7,
-                   gyro_bias_errors: tuple[int, ...] = (3, 4, 5)) -> Sensor:
+                   gyro_bias_errors: tuple[int, ...] = (3, 4, 5), tilt_aware: bool = False) -> Sensor:
     """The magnetometer's heading: the sample (its context) turned into the earth frame with the
     attitude, its horizontal angle east of north [rad]. The measurement is the local declination
     (where the field should point). By default it corrects the heading only, never the gyro bias
@@ -144,18 +160,31 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     magnetometer out of its bias estimate for the same reason). ``corrects_bias`` gives the
     ordinary update, whose optimal gain the RTS smoother assumes.
 
+    ``tilt_aware``: the heading a magnetometer gives also moves with the tilt error, by about
+    tan(dip) times it. The default update leaves that out (its Jacobian sees the heading only) and,
+    where the tilt is uncertain against the heading's noise, then trusts the heading too much.
+    With ``tilt_aware`` the full Jacobian (:func:`_field_heading_jacobian`) puts the tilt's share
+    into the innovation's variance, and the gain corrects one error only, the turn about body z
+    (error state 2; the others are ``uncorrected``): the magnetometer still never tilts the
+    estimate, and never touches anything else in it.
+
     The state holds the attitude quaternion in ``x[:4]``; ``dim_x`` is its length (7 for
-    ``[q, b]``; the inertial navigation filter's 16, with its gyro bias errors at 9–11).
+    ``[q, b]``; the inertial navigation filter's 16).
     """
     as_positive("sigma_rad", sigma_rad)
-    if not isinstance(corrects_bias, bool):
-        raise TypeError(f"corrects_bias: expected True or False, got {corrects_bias!r}")
+    for name, flag in (("corrects_bias", corrects_bias), ("tilt_aware", tilt_aware)):
+        if not isinstance(flag, bool):
+            raise TypeError(f"{name}: expected True or False, got {flag!r}")
     if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
         raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
+    dim_x = int(dim_x)
+    if tilt_aware:
+        H, uncorrected = _field_heading_jacobian(dim_x), tuple(i for i in range(dim_x - 1) if i != 2)
+    else:
+        H, uncorrected = _heading_only_jacobian(dim_x), () if corrects_bias else tuple(gyro_bias_errors)
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
-                  h=_field_heading, H=_heading_only_jacobian(int(dim_x)), R=np.full((1, 1), sigma_rad**2),
-                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)),
-                  uncorrected=() if corrects_bias else tuple(gyro_bias_errors))
+                  h=_field_heading, H=H, R=np.full((1, 1), sigma_rad**2),
+                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)), uncorrected=uncorrected)
 
 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:

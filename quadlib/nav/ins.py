@@ -61,7 +61,7 @@ ERROR_NAMES = ("dtheta_x", "dtheta_y", "dtheta_z", "dvn", "dve", "dvd", "dpn", "
                "dbg_x", "dbg_y", "dbg_z", "dba_x", "dba_y", "dba_z")
 INPUT_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]", "fx [m/s2]", "fy [m/s2]", "fz [m/s2]")
 Q_, V, P, BG, BA = slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(13, 16)  # in x
-GYRO_BIAS_ERRORS = (9, 10, 11)
+GYRO_BIAS_ERRORS = (9, 10, 11)  # in δx
 
 
 def _skew(v):
@@ -132,15 +132,17 @@ def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_r
     sbg = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     sba = as_positive("accel_bias_walk_m_s2_sqrt_s", accel_bias_walk_m_s2_sqrt_s)
 
+    i, sa2 = np.arange(3), sa**2
+
     def Q(dt):
         Qm = np.zeros((15, 15))
-        i3 = np.eye(3)
-        Qm[0:3, 0:3] = (sg * dt) ** 2 * i3
-        w = np.array([[dt, 0.5 * dt**2]])  # velocity and position share one acceleration error
-        Qm[3:9, 3:9] = np.kron(w.T @ w, np.diag(sa**2))  # isotropic in the body: the same in NED
-        Qm[9:12, 9:12] = sbg**2 * dt * i3
-        Qm[12:15, 12:15] = sba**2 * dt * i3
-        return Qm
+        Qm[i, i] = (sg * dt) ** 2
+        Qm[3 + i, 3 + i] = sa2 * dt**2  # velocity and position share one acceleration error
+        Qm[6 + i, 6 + i] = sa2 * dt**4 / 4.0
+        Qm[3 + i, 6 + i] = Qm[6 + i, 3 + i] = sa2 * dt**3 / 2.0
+        Qm[9 + i, 9 + i] = sbg**2 * dt
+        Qm[12 + i, 12 + i] = sba**2 * dt
+        return Qm  # per body axis; isotropic noise is the same in NED
 
     return Model(state_names=STATE_NAMES, input_names=INPUT_NAMES, g=_step, G=_error_jacobian, Q=Q,
                  error_names=ERROR_NAMES, state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
@@ -200,6 +202,12 @@ class InsParams:
         Barometer noise [m].
     heading_sigma_rad : float
         Noise of the magnetometer's heading [rad].
+    heading_tilt_aware : bool
+        The heading update's two forms (:func:`quadlib.attitude.heading_sensor`): False corrects
+        the heading about the vertical and ignores that a tilt error also turns the measured
+        heading; True puts that into the innovation's variance and corrects the turn about body z
+        only. Chapter 14 compares them: True is consistent on the simulated square, False agrees
+        better with the autopilot on the real flight.
     gps_delay_s : float
         How long a fix is old when it is logged [s]: each fix is applied at its time minus this
         (PX4's ``EKF2_GPS_DELAY``). Replaying a log, the filter can simply apply it earlier.
@@ -220,6 +228,7 @@ class InsParams:
     use_gps_height: bool = True
     baro_sigma_m: float = 0.5
     heading_sigma_rad: float = 0.05
+    heading_tilt_aware: bool = False
     gps_delay_s: float = 0.0
     gate_probability: float | None = 0.9999
     initial_tilt_sigma_rad: float = 0.05
@@ -235,8 +244,9 @@ class InsParams:
                             "gate_probability": "optional probability", "initial_tilt_sigma_rad": "positive",
                             "initial_heading_sigma_rad": "positive", "initial_gyro_bias_sigma_rad_s": "positive",
                             "initial_accel_bias_sigma_m_s2": "positive"})
-        if not isinstance(self.use_gps_height, bool):
-            raise TypeError(f"InsParams.use_gps_height: expected True or False, got {self.use_gps_height!r}")
+        for name in ("use_gps_height", "heading_tilt_aware"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"InsParams.{name}: expected True or False, got {getattr(self, name)!r}")
 
     def model(self, decimate: int = 1) -> Model:
         """The INS model for inputs that average ``decimate`` IMU samples."""
@@ -364,8 +374,8 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         field_n = quat_to_dcm(x0[Q_]) @ np.nanmean(mag_log.mag[:100], axis=0)
         good = plausible_mag(mag_log.mag, mag_log.accel, field_n, SensorChecks())
         mag = np.where(good[:, None], mag_log.mag, np.nan)
-        heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
-                                 gyro_bias_errors=GYRO_BIAS_ERRORS)
+        heading = heading_sensor(params.heading_sigma_rad, dim_x=16, gyro_bias_errors=GYRO_BIAS_ERRORS,
+                                 tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
     run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
     return rts_smooth(model, run, u) if offline else run
