@@ -70,6 +70,8 @@ class Samples:
                              f"got {getattr(z, 'shape', repr(self.z))}")
         if np.isinf(z).any():
             raise ValueError("Samples.z: expected finite values or NaN for missing, got inf")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "z", z)
 
 
 @dataclass(frozen=True)

@@ -121,6 +121,17 @@ from quadlib.geometry import (
     rotations,
 )
 from quadlib.imu import ImuLog, ImuNoise
+from quadlib.nav import (
+    InsParams,
+    accel_noise_equivalent,
+    estimate_ins,
+    imu_blocks,
+    ins_baro_sensor,
+    ins_gps_sensor,
+    ins_initial_state,
+    ins_model,
+    velocity_change_mismatch,
+)
 from quadlib.quad import (
     Flight3D,
     Quad3DTuning,
@@ -132,6 +143,7 @@ from quadlib.quad import (
     gps_samples,
     height_model,
     imu_inputs,
+    imu_with_magnetometer,
     mag_field_samples,
     mag_yaw_samples,
     quad1d_model,
@@ -207,6 +219,8 @@ BAD = {
     "angles or NaN": st.sampled_from([INF, -INF, [0.0, INF], "a", None]),
     "imu stream": st.sampled_from([np.zeros((99, 3)), np.zeros((100, 2)), np.full((100, 3), INF), "g", None]),
 }
+POS, FIN, PROB, COUNT = BAD["positive"], BAD["finite"], BAD["probability"], BAD["count"]
+NONNEG = st.sampled_from([-1.0, NAN, INF, "1"])
 
 
 def _wrong_type(kind: type) -> st.SearchStrategy:
@@ -224,6 +238,16 @@ class Probe:
 
 def _motion():
     return random_rotation(2.0, 50.0, np.random.default_rng(0))
+
+
+def _ins_log():
+    """A level IMU at rest for 1 s at 100 Hz, with a magnetometer."""
+    n = 100
+    return ImuLog(np.arange(n) * 0.01, np.zeros((n, 3)), np.tile([0.0, 0.0, -9.81], (n, 1)),
+                  np.tile([0.2, 0.0, 0.4], (n, 1)))
+
+
+INS_GPS = Samples([0.0, 0.5], np.zeros((2, 6)))
 
 
 def _imu_log(n=100):
@@ -330,7 +354,10 @@ PROBES = [
            "accel_range_m_s2": BAD["positive"]}),
     Probe(baro_altitude_sensor, lambda: dict(sigma_m=0.4), {"sigma_m": BAD["positive"], "rate_hz": BAD["positive"]}),
     Probe(gravity_sensor, lambda: dict(sigma_m_s2=1.0), {"sigma_m_s2": BAD["positive"]}),
-    Probe(heading_sensor, lambda: dict(sigma_rad=0.1), {"sigma_rad": BAD["positive"], "corrects_bias": WRONG_TYPE}),
+    Probe(heading_sensor, lambda: dict(sigma_rad=0.1),
+          {"sigma_rad": BAD["positive"], "corrects_bias": WRONG_TYPE, "tilt_aware": WRONG_TYPE,
+           "dim_x": st.sampled_from([3, 7.5, True, "7"]),
+           "gyro_bias_errors": st.sampled_from([(3, 9), [3, 4], (True,), "3"])}),
     Probe(earth_field_ned, lambda: dict(strength=0.5, inclination_rad=1.0),
           {"strength": BAD["positive"], "inclination_rad": BAD["finite"], "declination_rad": BAD["finite"]}),
     # estimators
@@ -357,6 +384,46 @@ PROBES = [
           {"log": WRONG_TYPE, "noise": _wrong_type(FixedWingNoise), "filter_factory": WRONG_TYPE,
            "inclination_rad": BAD["finite"], "prefilter_hz": BAD["positive"],
            "tuning": _wrong_type(FixedWingTuning)}),
+    # nav
+    Probe(estimate_ins, lambda: dict(log=_ins_log(), gps=INS_GPS, baro=Samples([0.0, 0.5], [100.0, 100.0])),
+          {"log": WRONG_TYPE,
+           "gps": st.sampled_from([Samples([0.0], np.zeros((1, 3))), Samples([5.0], np.zeros((1, 6))), "gps", None]),
+           "baro": WRONG_TYPE.filter(lambda v: v is not None), "params": _wrong_type(InsParams), "decimate": COUNT,
+           "offline": WRONG_TYPE, "declination_rad": FIN, "baro_offset_m": FIN,
+           "x0": st.sampled_from([np.zeros(16), np.zeros(15), np.full(16, NAN), "x"])}),
+    Probe(imu_blocks, lambda: dict(log=_ins_log(), decimate=2), {"log": WRONG_TYPE, "decimate": COUNT}),
+    Probe(ins_model, lambda: dict(gyro_sigma_rad_s=0.01, accel_sigma_m_s2=0.2, gyro_bias_walk_rad_s_sqrt_s=1e-4,
+                                  accel_bias_walk_m_s2_sqrt_s=1e-3),
+          {"gyro_sigma_rad_s": POS, "accel_sigma_m_s2": st.one_of(POS, st.sampled_from([[1.0, 2.0], [1.0, -1.0, 1.0]])),
+           "gyro_bias_walk_rad_s_sqrt_s": POS, "accel_bias_walk_m_s2_sqrt_s": POS}),
+    Probe(ins_gps_sensor, lambda: dict(pos_sigma_m=(1.0, 1.0, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.2)),
+          {"pos_sigma_m": BAD["vector3"], "vel_sigma_m_s": st.sampled_from([[0.1, 0.1], [0.1, 0.0, 0.1], "v"]),
+           "use_height": WRONG_TYPE, "reset_after_s": POS}),
+    Probe(ins_baro_sensor, lambda: dict(sigma_m=0.5), {"sigma_m": POS}),
+    Probe(ins_initial_state, lambda: dict(log=_ins_log(), position=[0.0, 0.0, 0.0], velocity=[0.0, 0.0, 0.0]),
+          {"log": WRONG_TYPE, "position": BAD["vector3"], "velocity": BAD["vector3"], "declination_rad": FIN,
+           "n_average": COUNT}),
+    Probe(InsParams, lambda: {},
+          {"gyro_sigma_rad_s": POS, "accel_sigma_m_s2": POS, "gyro_bias_walk_rad_s_sqrt_s": POS,
+           "accel_bias_walk_m_s2_sqrt_s": POS, "gps_pos_sigma_m": POS, "gps_vel_sigma_m_s": POS,
+           "use_gps_height": WRONG_TYPE, "baro_sigma_m": POS, "heading_sigma_rad": POS,
+           "heading_tilt_aware": WRONG_TYPE,
+           "gps_delay_s": NONNEG, "gate_probability": PROB.filter(lambda v: v is not None),
+           "initial_tilt_sigma_rad": POS, "initial_heading_sigma_rad": POS, "initial_gyro_bias_sigma_rad_s": POS,
+           "initial_accel_bias_sigma_m_s2": POS}),
+    Probe(velocity_change_mismatch,
+          lambda: dict(log=_ins_log(), q_nb=np.tile([1.0, 0.0, 0.0, 0.0], (100, 1)), gps=INS_GPS, fixes=1),
+          {"log": WRONG_TYPE, "q_nb": st.sampled_from([np.zeros((100, 4)), np.tile([1.0, 0, 0, 0], (99, 1)), "q"]),
+           "gps": st.sampled_from([Samples([0.0, 0.5], np.zeros((2, 3))), "gps", None]), "delay_s": NONNEG,
+           "fixes": COUNT}),
+    Probe(accel_noise_equivalent, lambda: dict(mismatch=np.ones((5, 3)), window_s=1.0, sample_period_s=0.01,
+                                               gps_vel_sigma_m_s=(0.1, 0.1, 0.1)),
+          {"mismatch": st.sampled_from([np.ones((5, 2)), "m", np.full((3, 3), NAN)]), "window_s": POS,
+           "sample_period_s": POS, "gps_vel_sigma_m_s": BAD["vector3"]}),
+    Probe(imu_with_magnetometer,
+          lambda: dict(run=simulate_run3d(FLIGHT3D, SensorNoise3D(), np.random.default_rng(0), decimate=2),
+                       flight=FLIGHT3D, noise=SensorNoise3D(), rng=np.random.default_rng(0)),
+          {"run": WRONG_TYPE, "flight": WRONG_TYPE, "noise": _wrong_type(SensorNoise3D), "rng": BAD["rng"]}),
     # data
     Probe(data_path, lambda: dict(relative="broad/trials.json"),
           {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
@@ -377,8 +444,6 @@ PROBES = [
 
 Q1 = [1.0, 0.0, 0.0, 0.0]
 X7 = [1.0, 0.0, 0.0, 0.0, 0.01, 0.0, 0.0]
-POS, FIN, PROB, COUNT = BAD["positive"], BAD["finite"], BAD["probability"], BAD["count"]
-NONNEG = st.sampled_from([-1.0, NAN, INF, "1"])
 IMU3 = dict(dt=0.01, gyro=np.zeros((3, 3)), accel=np.tile([0.0, 0.0, -9.8], (3, 1)), tau=1.0)  # 3 level samples
 BAD_IMU3 = {"dt": POS, "gyro": st.sampled_from([np.zeros((3, 2)), "g"]),
             "accel": st.sampled_from([np.zeros((2, 3)), "a"]), "tau": NONNEG}
@@ -717,7 +782,7 @@ NOT_PROBED = {
 def _public_callables():
     out = {}
     for module_name in ("quadlib", "quadlib.geometry", "quadlib.sim", "quadlib.analysis", "quadlib.teaching",
-                        "quadlib.quad", "quadlib.attitude", "quadlib.fixedwing", "quadlib.data"):
+                        "quadlib.quad", "quadlib.attitude", "quadlib.fixedwing", "quadlib.data", "quadlib.nav"):
         module = importlib.import_module(module_name)
         for name in module.__all__:
             obj = getattr(module, name)

@@ -166,7 +166,8 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     With ``tilt_aware`` the full Jacobian (:func:`_field_heading_jacobian`) puts the tilt's share
     into the innovation's variance, and the gain corrects one error only, the turn about body z
     (error state 2; the others are ``uncorrected``): the magnetometer still never tilts the
-    estimate, and never touches anything else in it.
+    estimate, and never touches anything else in it. A consider update, so not for the smoother
+    (``corrects_bias`` must stay False).
 
     The state holds the attitude quaternion in ``x[:4]``; ``dim_x`` is its length (7 for
     ``[q, b]``; the inertial navigation filter's 16).
@@ -178,10 +179,17 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
         raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
     dim_x = int(dim_x)
+    if not (isinstance(gyro_bias_errors, tuple) and all(
+            isinstance(i, int) and not isinstance(i, bool) and 0 <= i < dim_x - 1 for i in gyro_bias_errors)):
+        raise ValueError(f"gyro_bias_errors: expected a tuple of error-state indices in [0, {dim_x - 2}], "
+                         f"got {gyro_bias_errors!r}")
+    if tilt_aware and corrects_bias:
+        raise ValueError("corrects_bias: expected False with tilt_aware=True (its update corrects the heading only), "
+                         "got True")
     if tilt_aware:
         H, uncorrected = _field_heading_jacobian(dim_x), tuple(i for i in range(dim_x - 1) if i != 2)
     else:
-        H, uncorrected = _heading_only_jacobian(dim_x), () if corrects_bias else tuple(gyro_bias_errors)
+        H, uncorrected = _heading_only_jacobian(dim_x), () if corrects_bias else gyro_bias_errors
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
                   h=_field_heading, H=H, R=np.full((1, 1), sigma_rad**2),
                   residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)), uncorrected=uncorrected)

@@ -64,6 +64,9 @@ class FlightLog:
     position : Samples or None
         The autopilot's NED position about ``origin`` [m] and velocity [m/s], shape (K, 6); its
         down axis keeps the autopilot's own height reference.
+    position_accuracy : Samples or None
+        The autopilot's own horizontal and vertical position accuracy (EPH, EPV) [m], shape (K, 2),
+        where the log has them.
     """
 
     name: str
@@ -74,6 +77,7 @@ class FlightLog:
     origin: np.ndarray | None
     attitude: Samples
     position: Samples | None
+    position_accuracy: Samples | None = None
 
 
 def _resolve(log: str | os.PathLike, suffix: str) -> Path:
@@ -157,7 +161,7 @@ def load_px4_log(log: str | os.PathLike = "px4/01_07_59.px4log") -> FlightLog:
         ok = ~np.isnan(alt)
         baro = Samples(times("SENS")[ok] - t0, alt[ok])
 
-    gps = quality = origin = position = None
+    gps = quality = origin = position = accuracy = None
     if rows["GPS"]:
         g = col("GPS", "GPSTime", "Fix", "Lat", "Lon", "Alt", "VelN", "VelE", "VelD", "EPH", "EPV", "nSat")
         new = np.r_[True, np.any(np.diff(g[:, 2:8], axis=0) != 0, axis=1)] & (g[:, 1] >= 3)
@@ -167,11 +171,12 @@ def load_px4_log(log: str | os.PathLike = "px4/01_07_59.px4log") -> FlightLog:
             gps = Samples(tg, np.column_stack([geodetic_to_ned(g[:, 2:5], origin), g[:, 5:8]]))
             quality = Samples(tg, g[:, 8:11])
             if rows["LPOS"]:
-                lp = col("LPOS", "X", "Y", "Z", "VX", "VY", "VZ", "RLat", "RLon")
+                lp = col("LPOS", "X", "Y", "Z", "VX", "VY", "VZ", "RLat", "RLon", "EPH", "EPV")
                 pos = _position_in_origin(lp[:, :3], lp[:, 6:8], origin)
                 position = Samples(times("LPOS") - t0, np.column_stack([pos, lp[:, 3:6]]))
+                accuracy = Samples(times("LPOS") - t0, lp[:, 8:10])
     return FlightLog(name=path.name, imu=imu, baro=baro, gps=gps, gps_quality=quality, origin=origin,
-                     attitude=attitude, position=position)
+                     attitude=attitude, position=position, position_accuracy=accuracy)
 
 
 def load_ulog(log: str | os.PathLike = "px4/sample.ulg") -> FlightLog:

@@ -17,7 +17,7 @@ from quadlib.constants import GRAVITY_N
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_to_dcm
 from quadlib.imu import ImuLog
 from quadlib.samples import Samples
-from quadlib.validation import as_instance, as_positive, as_vector
+from quadlib.validation import as_float_array, as_instance, as_positive, as_vector
 
 __all__ = ["accel_noise_equivalent", "velocity_change_mismatch"]
 
@@ -49,7 +49,7 @@ def accel_noise_equivalent(mismatch, window_s: float, sample_period_s: float, gp
     """``(3,)``: the white accelerometer noise per sample [m/s²] that would explain ``mismatch``
     (from :func:`velocity_change_mismatch`) over windows of ``window_s``: white noise ``σ`` per sample
     integrates to ``σ Δt √(window/Δt)``, and the two GPS velocities add ``2 σ_v²``."""
-    e = np.asarray(mismatch, dtype=float)
+    e = as_float_array("mismatch", mismatch)
     if e.ndim != 2 or e.shape[1] != 3 or np.isnan(e).all():
         raise ValueError(f"mismatch: expected (K, 3) differences with some finite rows, got shape {e.shape}")
     rms2 = np.nanmean(e**2, axis=0)

@@ -284,6 +284,8 @@ def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 
     zero. Without a magnetometer the heading starts at north."""
     log = as_instance("log", log, ImuLog)
     declination_rad = as_finite_number("declination_rad", declination_rad)
+    if isinstance(n_average, bool) or not isinstance(n_average, (int, np.integer)) or not 1 <= n_average <= len(log):
+        raise ValueError(f"n_average: expected an int in [1, {len(log)}], got {n_average!r}")
     f = np.nanmean(log.accel[:n_average], axis=0)
     m = np.array([1.0, 0.0, 0.0]) if log.mag is None else np.nanmean(log.mag[:n_average * 5], axis=0)
     if log.mag is None:  # a field along body x: the heading is the body's
@@ -316,7 +318,8 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         IMU samples averaged per filter step (:func:`imu_blocks`).
     offline : bool
         Smooth with the Rauch–Tung–Striebel backward pass in error-state form
-        (:func:`quadlib.rts_smooth`): each estimate then uses the whole log.
+        (:func:`quadlib.rts_smooth`): each estimate then uses the whole log. The forward pass then
+        lets the heading correct the gyro bias too (the backward pass assumes optimal gains).
     declination_rad : float
         Magnetic declination [rad], east of true north.
     baro_offset_m : float, optional
@@ -339,6 +342,10 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     params = as_instance("params", params, InsParams)
     if not isinstance(offline, bool):
         raise TypeError(f"offline: expected True or False, got {offline!r}")
+    if offline and params.heading_tilt_aware:
+        raise ValueError("offline: expected the heading-only update for the smoother (its backward pass assumes an "
+                         "optimal forward gain, which the tilt-aware consider update is not), got "
+                         "InsParams(heading_tilt_aware=True)")
     declination_rad = as_finite_number("declination_rad", declination_rad)
     t, u = imu_blocks(log, decimate)
     gps = Samples(gps.t - params.gps_delay_s, gps.z)
@@ -351,6 +358,8 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         x0 = ins_initial_state(log.slice(start * decimate), gps.z[fixes[0], :3], gps.z[fixes[0], 3:],
                                declination_rad)
     x0 = as_vector("x0", x0, 16)
+    if not x0[Q_].any():
+        raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[:4], got {x0[Q_].tolist()}")
     P0 = params.initial_covariance(params.gps_pos_sigma_m, params.gps_vel_sigma_m_s)
     model = params.model(decimate)
     ekf = ModelEKF(model, x0, P0, float(np.median(np.diff(t))))
@@ -374,8 +383,9 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         field_n = quat_to_dcm(x0[Q_]) @ np.nanmean(mag_log.mag[:100], axis=0)
         good = plausible_mag(mag_log.mag, mag_log.accel, field_n, SensorChecks())
         mag = np.where(good[:, None], mag_log.mag, np.nan)
-        heading = heading_sensor(params.heading_sigma_rad, dim_x=16, gyro_bias_errors=GYRO_BIAS_ERRORS,
-                                 tilt_aware=params.heading_tilt_aware)
+        # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal
+        heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
+                                 gyro_bias_errors=GYRO_BIAS_ERRORS, tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
     run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
     return rts_smooth(model, run, u) if offline else run

@@ -25,7 +25,7 @@ from .quad3d import (
     quad3d_ukf_options,
 )
 from .rangefinder import tilted_range_sensor
-from .scenario import Run3D, run3d_measurements, simulate_run3d
+from .scenario import Run3D, imu_with_magnetometer, run3d_measurements, simulate_run3d
 
 __all__ = [
     "Flight3D",
@@ -38,6 +38,7 @@ __all__ = [
     "flight_from_path",
     "gps_samples",
     "height_model",
+    "imu_with_magnetometer",
     "imu_inputs",
     "mag_field_samples",
     "mag_yaw_samples",
