@@ -98,10 +98,16 @@ class ModelFilter:
     def _process_noise(self, dt: float, u: np.ndarray | None = None) -> np.ndarray:
         # Q depends on dt only. A uniform time grid asks for the same dt every step, up to float
         # jitter (the differences of 0.02 * arange(N) vary in the last bits), so Q(dt) is reused
-        # while dt stays within a relative 1e-9 of the dt it was computed for.
-        if abs(dt - self._q_dt) > 1e-9 * dt:  # a new dt: its Q is checked like the first one
-            self._q_dt, self._q = dt, as_covariance(f"{self.model.name}.Q(dt={dt:g})", self.model.Q(dt),
-                                                    self.model.dim_P)
+        # while dt stays within a relative 1e-9 of the dt it was computed for. A real log's clock
+        # jitters (a PX4 log has thousands of distinct steps), so a new dt's Q gets the cheap
+        # checks — shape, finite, symmetric, no negative variance — and the full one (eigenvalues)
+        # only if one of them fails, to name the fault; Q(self.dt) had the full check at the start.
+        if abs(dt - self._q_dt) > 1e-9 * dt:
+            q = self.model.Q(dt)
+            if not (isinstance(q, np.ndarray) and q.shape == self._q.shape and np.isfinite(q).all()
+                    and np.array_equal(q, q.T) and (np.diagonal(q) >= 0.0).all()):
+                q = as_covariance(f"{self.model.name}.Q(dt={dt:g})", q, self.model.dim_P)
+            self._q_dt, self._q = dt, q
         if self.model.input_noise is not None:
             extra = self.model.input_noise(u, dt)
             if extra is not None:
