@@ -1,0 +1,266 @@
+"""Fly the quadrotor of :mod:`~quadlib.control.vehicle` with Kesten's controllers, on the true state
+or on the estimates of the project's filters: the estimator in the loop.
+
+Every control period (Kesten's 4 ms, eq. 4.5) the loop samples the IMU from the true motion (the
+magnetometer every 20 ms, the barometer every 40 ms, eqs. 4.13 and 4.17; the noise of
+:class:`~quadlib.attitude.AttitudeNoise`), lets the estimators take those samples, asks the
+controllers for motor thrusts on the estimate, and integrates the rigid body over the period.
+The estimators are the attitude-and-gyro-bias EKF of chapters 12–13 (gyro, gravity, heading) and
+Kesten's altitude filter (chapter 11), each a :class:`~quadlib.ModelFilter` stepped sample by sample.
+With ``estimator="truth"`` the controllers see the true state: perfect estimation, the baseline.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.attitude.altitude import altitude_model, baro_altitude_sensor, vertical_specific_force
+from quadlib.attitude.bias_model import attitude_bias_model
+from quadlib.attitude.kesten import AttitudeNoise
+from quadlib.attitude.orientation import gravity_sensor, heading_sensor
+from quadlib.constants import G0
+from quadlib.control.controllers import AltitudePid, AttitudePid, attitude_pid_gains
+from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
+from quadlib.control.vehicle import QuadrotorParams, hover_state, quadrotor_derivative, quadrotor_step
+from quadlib.filters import LinearKF, ModelEKF
+from quadlib.geometry import kernels
+from quadlib.geometry.quaternion import quat_conjugate, quat_to_rotvec
+from quadlib.validation import as_instance, as_positive, as_rng, as_vector, check_fields
+
+__all__ = ["ClosedLoopRun", "LoopSensors", "Reference", "altitude_step", "attitude_wave", "fly"]
+
+
+@dataclass(frozen=True)
+class Reference:
+    """What the controllers are asked to follow at time ``t``: height ``s`` [m, up], climb rate
+    ``v`` [m/s], attitude ``q_nb`` and body rates ``ω`` [rad/s]."""
+
+    s: float
+    v: float
+    q_nb: np.ndarray
+    omega: np.ndarray
+
+
+def altitude_step(t_step_s: float = 5.0, height_m: float = 2.0, start_m: float = 1.0) -> Callable[[float], Reference]:
+    """Kesten's Fig. 5.3 reference: hover at ``start_m``, then a step of ``height_m`` at ``t_step_s``,
+    level and facing north throughout."""
+    level, still = np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3)
+    return lambda t: Reference(start_m + (height_m if t >= t_step_s else 0.0), 0.0, level, still)
+
+
+def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), height_m: float = 1.0,
+                  step_at_s: float | None = None, step_rad: float = 0.1) -> Callable[[float], Reference]:
+    """A reference attitude for Kesten's Fig. 5.4: each orientation-vector component a sine
+    ``θᵢ = aᵢ sin(2π t / Tᵢ)`` (``q = exp(θ)``), with its body rates, at a constant height; with
+    ``step_at_s``, the roll component steps by ``step_rad`` there (the rate reference does not)."""
+    a = np.asarray(amplitudes_rad, dtype=float)
+    w = 2.0 * np.pi / np.asarray(periods_s, dtype=float)
+    if a.shape != (3,) or w.shape != (3,) or not np.all(np.isfinite(a)) or not np.all(w > 0):
+        raise ValueError(f"amplitudes_rad, periods_s: expected three finite amplitudes and three positive periods, "
+                         f"got {amplitudes_rad!r}, {periods_s!r}")
+    height = as_positive("height_m", height_m)
+
+    def theta(t):
+        th = a * np.sin(w * t)
+        if step_at_s is not None and t >= step_at_s:
+            th = th + np.array([step_rad, 0.0, 0.0])
+        return th
+
+    def reference(t):
+        q = kernels.exp_rotvec(theta(t))
+        h = 1e-4
+        q_next = kernels.exp_rotvec(a * np.sin(w * (t + h)) + (theta(t) - a * np.sin(w * t)))
+        omega = quat_to_rotvec(kernels.multiply(quat_conjugate(q), q_next)) / h
+        return Reference(height, 0.0, q, omega)
+
+    return reference
+
+
+@dataclass(frozen=True)
+class LoopSensors:
+    """Sample periods [s] (Kesten eqs. 4.5, 4.13, 4.17) and noise of the sensors in the loop, and the
+    filters' settings.
+
+    Parameters
+    ----------
+    noise : AttitudeNoise
+        Gyro, accelerometer and magnetometer noise per sample and the Earth's field (Kesten §4.2–4.4).
+    imu_period_s, mag_period_s, baro_period_s : float
+        The magnetometer and barometer periods must be whole multiples of the IMU's.
+    baro_sigma_m : float
+        Barometer noise (Kesten's variance 0.15 m², §4.5).
+    gravity_sigma_m_s2 : float
+        The attitude filter's trust in the accelerometer as a gravity sensor. A multirotor's
+        accelerometer reads the thrust's direction, body z, whatever the tilt: it shows gravity only
+        while the vehicle does not accelerate, so this must be far more than its noise (chapter 15
+        sweeps it).
+    gyro_bias_sigma_rad_s : float
+        σ of the gyro bias the filter starts with: what is left after calibrating it on the ground.
+    altitude_weight : float
+        Kesten's altitude filter's gravity-state weight ``w`` (chapter 11).
+    """
+
+    noise: AttitudeNoise = AttitudeNoise()
+    imu_period_s: float = 0.004
+    mag_period_s: float = 0.02
+    baro_period_s: float = 0.04
+    baro_sigma_m: float = float(np.sqrt(0.15))
+    gravity_sigma_m_s2: float = 100.0
+    gyro_bias_sigma_rad_s: float = 0.005
+    altitude_weight: float = 2e-4
+
+    def __post_init__(self):
+        check_fields(self, {"imu_period_s": "positive", "mag_period_s": "positive", "baro_period_s": "positive",
+                            "baro_sigma_m": "positive", "gravity_sigma_m_s2": "positive",
+                            "gyro_bias_sigma_rad_s": "positive", "altitude_weight": "probability"})
+        if not isinstance(self.noise, AttitudeNoise):
+            raise TypeError(f"LoopSensors.noise: expected an AttitudeNoise, got {self.noise!r}")
+        for name in ("mag_period_s", "baro_period_s"):
+            ratio = getattr(self, name) / self.imu_period_s
+            if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+                raise ValueError(f"LoopSensors.{name}: expected a whole multiple of imu_period_s "
+                                 f"({self.imu_period_s:g} s), got {getattr(self, name):g} s")
+
+    def every(self, period_s: float) -> int:
+        return int(round(period_s / self.imu_period_s))
+
+
+@dataclass(frozen=True)
+class ClosedLoopRun:
+    """One closed-loop flight, sampled every control period (``K`` steps).
+
+    Attributes
+    ----------
+    t : (K,) times [s]
+    state : (K, 17) true rigid-body state (:mod:`~quadlib.control.vehicle`)
+    height, climb : (K,) true height and climb rate [m, m/s, up]
+    height_est, climb_est : (K,) what the controller used
+    q_est : (K, 4) the attitude the controller used
+    s_ref : (K,) reference height; q_ref : (K, 4) reference attitude
+    thrust_cmd : (K, 4) commanded motor thrusts [N] (before the motors' limits)
+    """
+
+    t: np.ndarray
+    state: np.ndarray
+    height: np.ndarray
+    climb: np.ndarray
+    height_est: np.ndarray
+    climb_est: np.ndarray
+    q_est: np.ndarray
+    s_ref: np.ndarray
+    q_ref: np.ndarray
+    thrust_cmd: np.ndarray
+
+
+class _Filters:
+    """The two estimators, stepped one IMU sample at a time."""
+
+    def __init__(self, sensors: LoopSensors, X0: np.ndarray):
+        n, dt = sensors.noise, sensors.imu_period_s
+        model = attitude_bias_model(n.gyro_sigma_rad_s, 1e-5)
+        P0 = np.diag([0.02] * 3 + [sensors.gyro_bias_sigma_rad_s] * 3) ** 2
+        self.attitude = ModelEKF(model, np.r_[X0[6:10], 0.0, 0.0, 0.0], P0, dt)
+        self.gravity = gravity_sensor(sensors.gravity_sigma_m_s2)
+        self.heading = heading_sensor(0.05)
+        altitude = altitude_model(n.accel_sigma_m_s2, sensors.altitude_weight)
+        self.altitude = LinearKF(altitude, np.array([-X0[2], 0.0, G0]), np.diag([0.5, 0.1, 0.05]) ** 2, dt)
+        self.baro = baro_altitude_sensor(sensors.baro_sigma_m)
+        self.gate = 0.9999
+
+    def step(self, gyro, accel, mag, baro, dt):
+        self.attitude.predict(gyro, dt)
+        self.attitude.update_sensor(self.gravity, accel, gate_probability=self.gate)
+        if mag is not None:
+            self.attitude.update_sensor(self.heading, [0.0], gate_probability=self.gate, context=mag)
+        x = self.attitude.estimate
+        self.altitude.predict([float(vertical_specific_force(x[:4], accel))], dt)
+        if baro is not None:
+            self.altitude.update_sensor(self.baro, [baro])
+        s = self.altitude.estimate
+        return s[0], s[1], x[:4], gyro - x[4:]
+
+
+def fly(reference: Callable[[float], Reference], duration_s: float, params: QuadrotorParams = QuadrotorParams(), *,  # noqa: B008
+        estimator: str = "truth", rng=None, sensors: LoopSensors = LoopSensors(),
+        altitude_gains: AltitudeGains | None = None, attitude_gains=None, physics_steps: int = 1,
+        x0=None) -> ClosedLoopRun:
+    """Fly ``duration_s`` seconds from hover at the reference's first height, closed loop.
+
+    Parameters
+    ----------
+    reference : callable ``t -> Reference``
+    duration_s : float
+    params : QuadrotorParams
+    estimator : {"truth", "filters"}
+        What the controllers see: the true state, or the estimates of the two filters.
+    rng : numpy.random.Generator
+        Required with ``"filters"`` (sensor noise).
+    sensors : LoopSensors
+    altitude_gains : AltitudeGains, optional
+        Default :func:`~quadlib.control.altitude_pid_gains` for ``params.mass_kg`` (Kesten's weights).
+    attitude_gains : (C_p, C_i, C_d), optional
+        Default :func:`~quadlib.control.attitude_pid_gains`.
+    physics_steps : int
+        Runge–Kutta steps per control period (one is enough at 4 ms: the fastest dynamics, the
+        motors' 30 ms lag, take seven periods).
+    x0 : (17,) array_like, optional
+        The true start; by default hover at the reference's first height and attitude.
+    """
+    if not callable(reference):
+        raise TypeError(f"reference: expected a callable t -> Reference, got {reference!r}")
+    duration = as_positive("duration_s", duration_s)
+    params = as_instance("params", params, QuadrotorParams)
+    sensors = as_instance("sensors", sensors, LoopSensors)
+    if estimator not in ("truth", "filters"):
+        raise ValueError(f"estimator: expected 'truth' or 'filters', got {estimator!r}")
+    if estimator == "filters":
+        rng = as_rng(rng)
+    if isinstance(physics_steps, bool) or not isinstance(physics_steps, (int, np.integer)) or physics_steps < 1:
+        raise ValueError(f"physics_steps: expected an int >= 1, got {physics_steps!r}")
+    gains = altitude_pid_gains(params.mass_kg) if altitude_gains is None else as_instance(
+        "altitude_gains", altitude_gains, AltitudeGains)
+    C = attitude_pid_gains(params) if attitude_gains is None else attitude_gains
+    altitude_pid, attitude_pid = AltitudePid(gains, params.hover_thrust_n), AttitudePid(*C)
+
+    dt = sensors.imu_period_s
+    K = int(round(duration / dt)) + 1
+    first = reference(0.0)
+    X = hover_state(params, first.s, first.q_nb) if x0 is None else np.array(as_vector("x0", x0, 17))
+    if x0 is not None:
+        X[6:10] = kernels.normalize(X[6:10])
+    filters = _Filters(sensors, X) if estimator == "filters" else None
+    mag_every, baro_every = sensors.every(sensors.mag_period_s), sensors.every(sensors.baro_period_s)
+    n = sensors.noise
+    field_n, gyro_bias = n.field_n, np.asarray(n.gyro_bias_rad_s, dtype=float)
+    out = {k: [] for k in ("state", "height_est", "climb_est", "q_est", "s_ref", "q_ref", "thrust_cmd")}
+    thrust = X[13:17].copy()
+    for k in range(K):
+        t = k * dt
+        ref = reference(t)
+        q, omega = X[6:10], X[10:13]
+        if filters is None:
+            s_hat, v_hat, q_hat, omega_hat = -X[2], -X[5], q, omega
+        else:
+            R = kernels.dcm(q)
+            accel_n = quadrotor_derivative(params, X, thrust)[3:6]
+            f_b = R.T @ (accel_n - np.array([0.0, 0.0, G0]))
+            gyro = omega + gyro_bias + rng.standard_normal(3) * n.gyro_sigma_rad_s
+            accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
+            mag = R.T @ field_n + rng.standard_normal(3) * n.mag_sigma if k % mag_every == 0 else None
+            baro = -X[2] + rng.standard_normal() * sensors.baro_sigma_m if k % baro_every == 0 else None
+            s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt)
+        thrust_z = altitude_pid.thrust(s_hat, v_hat, ref.s, ref.v, dt)
+        thrust = attitude_pid.thrusts(thrust_z, q_hat, omega_hat, ref.q_nb, ref.omega, dt)
+        for key, value in (("state", X), ("height_est", s_hat), ("climb_est", v_hat), ("q_est", q_hat),
+                           ("s_ref", ref.s), ("q_ref", ref.q_nb), ("thrust_cmd", thrust)):
+            out[key].append(np.array(value, dtype=float))
+        for _ in range(physics_steps):
+            X = quadrotor_step(params, X, thrust, dt / physics_steps)
+    state = np.array(out["state"])
+    return ClosedLoopRun(t=np.arange(K) * dt, state=state, height=-state[:, 2], climb=-state[:, 5],
+                         height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),
+                         q_est=np.array(out["q_est"]), s_ref=np.array(out["s_ref"]), q_ref=np.array(out["q_ref"]),
+                         thrust_cmd=np.array(out["thrust_cmd"]))
