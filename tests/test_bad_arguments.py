@@ -77,6 +77,28 @@ from quadlib.attitude import (
 )
 from quadlib.attitude.bias_model import as_attitude_state
 from quadlib.constants import earth_field_ned
+from quadlib.control import (
+    AltitudeGains,
+    AltitudePid,
+    AttitudePid,
+    LoopSensors,
+    QuadrotorParams,
+    Reference,
+    altitude_model_matrices,
+    altitude_pid_gains,
+    altitude_step,
+    attitude_error,
+    attitude_pid_gains,
+    attitude_wave,
+    fly,
+    hover_state,
+    lqr_gain,
+    motor_torques,
+    quadrotor_derivative,
+    quadrotor_step,
+    riccati_gain,
+    tilt_angle,
+)
 from quadlib.data import data_path, load_broad_trial, load_px4_log, load_ulog
 from quadlib.fixedwing import (
     FixedWingNoise,
@@ -424,6 +446,60 @@ PROBES = [
           lambda: dict(run=simulate_run3d(FLIGHT3D, SensorNoise3D(), np.random.default_rng(0), decimate=2),
                        flight=FLIGHT3D, noise=SensorNoise3D(), rng=np.random.default_rng(0)),
           {"run": WRONG_TYPE, "flight": WRONG_TYPE, "noise": _wrong_type(SensorNoise3D), "rng": BAD["rng"]}),
+    # control
+    Probe(lqr_gain, lambda: dict(A=np.zeros((2, 2)) + [[0, 1], [0, 0]], B=[[0.0], [1.0]], Q=np.eye(2), R=[[1.0]]),
+          {"A": st.sampled_from([np.zeros((2, 3)), np.full((2, 2), NAN), "A"]),
+           "B": st.sampled_from([[[0.0]], [[NAN], [1.0]], "B"]),
+           "Q": st.sampled_from([-np.eye(2), np.eye(3), "Q"]), "R": st.sampled_from([[[0.0]], [[-1.0]], "R"])}),
+    Probe(riccati_gain, lambda: dict(A=[[0.0, 1.0], [0.0, 0.0]], B=[[0.0], [1.0]], Q=np.eye(2), R=[[1.0]]),
+          {"A": st.sampled_from([np.zeros((2, 3)), "A"]), "Q": st.sampled_from([-np.eye(2), "Q"]),
+           "R": st.sampled_from([[[0.0]], "R"])}),
+    Probe(altitude_model_matrices, lambda: dict(mass_kg=1.1), {"mass_kg": POS}),
+    Probe(altitude_pid_gains, lambda: {}, {"mass_kg": POS, "q_e": POS, "q_s": POS, "q_v": POS, "r": POS}),
+    Probe(attitude_pid_gains, lambda: dict(params=QuadrotorParams()),
+          {"params": _wrong_type(QuadrotorParams), "q_angle": POS, "q_rate": POS, "q_integral": POS, "r": POS}),
+    Probe(QuadrotorParams, lambda: {},
+          {"mass_kg": POS, "inertia_kg_m2": st.sampled_from([[1.0, 2.0], [0.01, -0.01, 0.02], "I"]), "arm_m": POS,
+           "drag_torque_m": POS, "motor_tau_s": POS, "max_thrust_n": POS}),
+    Probe(LoopSensors, lambda: {},
+          {"noise": WRONG_TYPE, "imu_period_s": POS, "mag_period_s": st.sampled_from([0.021, -1.0, NAN]),
+           "baro_period_s": st.sampled_from([0.041, 0.0, "b"]), "baro_sigma_m": POS, "gravity_sigma_m_s2": POS,
+           "gyro_bias_sigma_rad_s": POS, "altitude_weight": PROB}),
+    Probe(Reference, lambda: dict(s=1.0, v=0.0, q_nb=[1.0, 0.0, 0.0, 0.0], omega=[0.0, 0.0, 0.0]),
+          {"s": FIN, "v": FIN, "q_nb": BAD["unit quaternion"], "omega": BAD["vector3"]}),
+    Probe(altitude_step, lambda: {}, {"t_step_s": FIN, "height_m": FIN, "start_m": FIN}),
+    Probe(attitude_wave, lambda: {},
+          {"amplitudes_rad": st.sampled_from([[0.1, 0.1], [NAN, 0.1, 0.1], "a"]),
+           "periods_s": st.sampled_from([[1.0, 1.0], [1.0, 0.0, 1.0], "p"]), "height_m": POS,
+           "step_at_s": FIN, "step_rad": FIN}),
+    Probe(fly, lambda: dict(reference=altitude_step(), duration_s=0.02),
+          {"reference": st.sampled_from([1.0, "r", None]), "duration_s": POS,
+           "params": _wrong_type(QuadrotorParams), "estimator": st.sampled_from(["kalman", None, 1]),
+           "rng": BAD["rng"], "sensors": _wrong_type(LoopSensors),
+           "altitude_gains": st.sampled_from([(1.0, 2.0, 3.0), AltitudeGains(NAN, 1.0, 1.0), "g"]),
+           "attitude_gains": st.sampled_from([(np.eye(3), np.eye(3)), (np.eye(2),) * 3, 5.0]),
+           "physics_steps": COUNT, "x0": st.sampled_from([np.zeros(17), np.zeros(16), "x"])}),
+    Probe(hover_state, lambda: dict(params=QuadrotorParams()),
+          {"params": _wrong_type(QuadrotorParams), "height_m": FIN, "q_nb": BAD["unit quaternion"]}),
+    Probe(motor_torques, lambda: dict(params=QuadrotorParams(), thrusts=[1.0, 1.0, 1.0, 1.0]),
+          {"params": _wrong_type(QuadrotorParams), "thrusts": st.sampled_from([[1.0, 1.0], [NAN] * 4, "T"])}),
+    Probe(quadrotor_derivative, lambda: dict(params=QuadrotorParams(), X=hover_state(QuadrotorParams()),
+                                             thrust_cmd=np.ones(4)),
+          {"params": _wrong_type(QuadrotorParams), "X": st.sampled_from([np.zeros(17), np.zeros(16), "X"]),
+           "thrust_cmd": st.sampled_from([np.ones(3), [NAN] * 4, "T"])}),
+    Probe(quadrotor_step, lambda: dict(params=QuadrotorParams(), X=hover_state(QuadrotorParams()),
+                                       thrust_cmd=np.ones(4), dt=0.004),
+          {"params": _wrong_type(QuadrotorParams), "X": st.sampled_from([np.zeros(17), "X"]),
+           "thrust_cmd": st.sampled_from([np.ones(5), "T"]), "dt": POS}),
+    Probe(tilt_angle, lambda: dict(q_nb=[1.0, 0.0, 0.0, 0.0]), {"q_nb": BAD["unit quaternion"]}),
+    Probe(attitude_error, lambda: dict(q_hat=[1.0, 0.0, 0.0, 0.0], q_ref=[1.0, 0.0, 0.0, 0.0]),
+          {"q_hat": BAD["unit quaternion"], "q_ref": BAD["unit quaternion"]}),
+    Probe(AltitudePid, lambda: dict(gains=AltitudeGains(-1.0, -3.0, -3.0), hover_thrust_n=10.0),
+          {"gains": st.sampled_from([(1.0, 2.0, 3.0), AltitudeGains(NAN, 1.0, 1.0), None]),
+           "hover_thrust_n": POS, "integral": FIN}),
+    Probe(AttitudePid, lambda: dict(C_p=np.eye(3), C_i=np.eye(3), C_d=np.eye(3)),
+          {"C_p": st.sampled_from([np.eye(2), np.full((3, 3), NAN), "C"]), "C_i": st.sampled_from([np.eye(4), "C"]),
+           "C_d": st.sampled_from([None, np.ones(3)]), "integral": BAD["vector3"]}),
     # data
     Probe(data_path, lambda: dict(relative="broad/trials.json"),
           {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
@@ -769,7 +845,9 @@ PROBES += [
 
 RESULT = "a result quadlib builds and returns (read it, do not build it)"
 NOT_PROBED = {
-    "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT, "FilterRun": RESULT,
+    "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT,
+    "ClosedLoopRun": RESULT, "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
+    "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,
     "MonteCarloRuns": RESULT, "Run3D": RESULT, "SensorTrace": RESULT, "VerticalRun": RESULT,
     "ModelFilter": "the abstract base of LinearKF, ModelEKF and ModelUKF (probed)",
@@ -782,7 +860,8 @@ NOT_PROBED = {
 def _public_callables():
     out = {}
     for module_name in ("quadlib", "quadlib.geometry", "quadlib.sim", "quadlib.analysis", "quadlib.teaching",
-                        "quadlib.quad", "quadlib.attitude", "quadlib.fixedwing", "quadlib.data", "quadlib.nav"):
+                        "quadlib.quad", "quadlib.attitude", "quadlib.fixedwing", "quadlib.data", "quadlib.nav",
+                        "quadlib.control"):
         module = importlib.import_module(module_name)
         for name in module.__all__:
             obj = getattr(module, name)

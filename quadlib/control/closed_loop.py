@@ -24,11 +24,19 @@ from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.constants import G0
 from quadlib.control.controllers import AltitudePid, AttitudePid, attitude_pid_gains
 from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
-from quadlib.control.vehicle import QuadrotorParams, hover_state, quadrotor_derivative, quadrotor_step
+from quadlib.control.vehicle import QuadrotorParams, _derivative, _step, hover_state
 from quadlib.filters import LinearKF, ModelEKF
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import quat_conjugate, quat_to_rotvec
-from quadlib.validation import as_instance, as_positive, as_rng, as_vector, check_fields
+from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate, quat_to_rotvec
+from quadlib.validation import (
+    as_finite_array,
+    as_finite_number,
+    as_instance,
+    as_positive,
+    as_rng,
+    as_vector,
+    check_fields,
+)
 
 __all__ = ["ClosedLoopRun", "LoopSensors", "Reference", "altitude_step", "attitude_wave", "fly"]
 
@@ -43,10 +51,21 @@ class Reference:
     q_nb: np.ndarray
     omega: np.ndarray
 
+    def __post_init__(self):
+        for name in ("s", "v"):
+            object.__setattr__(self, name, as_finite_number(f"Reference.{name}", getattr(self, name)))
+        q = as_unit_quaternions("Reference.q_nb", self.q_nb)
+        if q.shape != (4,):
+            raise ValueError(f"Reference.q_nb: expected one quaternion of shape (4,), got {q.shape}")
+        object.__setattr__(self, "q_nb", q)
+        object.__setattr__(self, "omega", as_vector("Reference.omega", self.omega, 3))
+
 
 def altitude_step(t_step_s: float = 5.0, height_m: float = 2.0, start_m: float = 1.0) -> Callable[[float], Reference]:
     """Kesten's Fig. 5.3 reference: hover at ``start_m``, then a step of ``height_m`` at ``t_step_s``,
     level and facing north throughout."""
+    t_step_s, height_m, start_m = (as_finite_number(n, v) for n, v in
+                                   (("t_step_s", t_step_s), ("height_m", height_m), ("start_m", start_m)))
     level, still = np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3)
     return lambda t: Reference(start_m + (height_m if t >= t_step_s else 0.0), 0.0, level, still)
 
@@ -56,12 +75,15 @@ def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), h
     """A reference attitude for Kesten's Fig. 5.4: each orientation-vector component a sine
     ``θᵢ = aᵢ sin(2π t / Tᵢ)`` (``q = exp(θ)``), with its body rates, at a constant height; with
     ``step_at_s``, the roll component steps by ``step_rad`` there (the rate reference does not)."""
-    a = np.asarray(amplitudes_rad, dtype=float)
-    w = 2.0 * np.pi / np.asarray(periods_s, dtype=float)
-    if a.shape != (3,) or w.shape != (3,) or not np.all(np.isfinite(a)) or not np.all(w > 0):
+    a, periods = as_finite_array("amplitudes_rad", amplitudes_rad), as_finite_array("periods_s", periods_s)
+    if a.shape != (3,) or periods.shape != (3,) or not np.all(periods > 0):
         raise ValueError(f"amplitudes_rad, periods_s: expected three finite amplitudes and three positive periods, "
                          f"got {amplitudes_rad!r}, {periods_s!r}")
+    w = 2.0 * np.pi / periods
     height = as_positive("height_m", height_m)
+    step_rad = as_finite_number("step_rad", step_rad)
+    if step_at_s is not None:
+        step_at_s = as_finite_number("step_at_s", step_at_s)
 
     def theta(t):
         th = a * np.sin(w * t)
@@ -183,6 +205,17 @@ class _Filters:
         return s[0], s[1], x[:4], gyro - x[4:]
 
 
+def _as_gains(gains) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    try:
+        C = tuple(as_finite_array(f"attitude_gains[{i}]", g) for i, g in enumerate(gains))
+    except TypeError as err:
+        raise TypeError(f"attitude_gains: expected (C_p, C_i, C_d), three 3 × 3 matrices, got {gains!r}") from err
+    if len(C) != 3 or any(c.shape != (3, 3) for c in C):
+        raise ValueError(f"attitude_gains: expected (C_p, C_i, C_d), three 3 × 3 matrices, got shapes "
+                         f"{[c.shape for c in C]}")
+    return C
+
+
 def fly(reference: Callable[[float], Reference], duration_s: float, params: QuadrotorParams = QuadrotorParams(), *,  # noqa: B008
         estimator: str = "truth", rng=None, sensors: LoopSensors = LoopSensors(),
         altitude_gains: AltitudeGains | None = None, attitude_gains=None, physics_steps: int = 1,
@@ -216,13 +249,15 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     sensors = as_instance("sensors", sensors, LoopSensors)
     if estimator not in ("truth", "filters"):
         raise ValueError(f"estimator: expected 'truth' or 'filters', got {estimator!r}")
-    if estimator == "filters":
+    if estimator == "filters" or rng is not None:
         rng = as_rng(rng)
     if isinstance(physics_steps, bool) or not isinstance(physics_steps, (int, np.integer)) or physics_steps < 1:
         raise ValueError(f"physics_steps: expected an int >= 1, got {physics_steps!r}")
     gains = altitude_pid_gains(params.mass_kg) if altitude_gains is None else as_instance(
         "altitude_gains", altitude_gains, AltitudeGains)
-    C = attitude_pid_gains(params) if attitude_gains is None else attitude_gains
+    if not all(np.isfinite(gains)):
+        raise ValueError(f"altitude_gains: expected finite gains, got {gains}")
+    C = attitude_pid_gains(params) if attitude_gains is None else _as_gains(attitude_gains)
     altitude_pid, attitude_pid = AltitudePid(gains, params.hover_thrust_n), AttitudePid(*C)
 
     dt = sensors.imu_period_s
@@ -230,6 +265,8 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     first = reference(0.0)
     X = hover_state(params, first.s, first.q_nb) if x0 is None else np.array(as_vector("x0", x0, 17))
     if x0 is not None:
+        if not X[6:10].any():
+            raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[6:10], got {X[6:10].tolist()}")
         X[6:10] = kernels.normalize(X[6:10])
     filters = _Filters(sensors, X) if estimator == "filters" else None
     mag_every, baro_every = sensors.every(sensors.mag_period_s), sensors.every(sensors.baro_period_s)
@@ -245,7 +282,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
             s_hat, v_hat, q_hat, omega_hat = -X[2], -X[5], q, omega
         else:
             R = kernels.dcm(q)
-            accel_n = quadrotor_derivative(params, X, thrust)[3:6]
+            accel_n = _derivative(params, X, thrust)[3:6]
             f_b = R.T @ (accel_n - np.array([0.0, 0.0, G0]))
             gyro = omega + gyro_bias + rng.standard_normal(3) * n.gyro_sigma_rad_s
             accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
@@ -258,7 +295,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
                            ("s_ref", ref.s), ("q_ref", ref.q_nb), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
         for _ in range(physics_steps):
-            X = quadrotor_step(params, X, thrust, dt / physics_steps)
+            X = _step(params, X, thrust, dt / physics_steps)
     state = np.array(out["state"])
     return ClosedLoopRun(t=np.arange(K) * dt, state=state, height=-state[:, 2], climb=-state[:, 5],
                          height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),

@@ -22,21 +22,34 @@ import numpy as np
 from quadlib.control.lqr import AltitudeGains, lqr_gain
 from quadlib.control.vehicle import MIXER, QuadrotorParams
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import quat_conjugate, quat_to_rotvec
-from quadlib.validation import as_instance, as_positive
+from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate, quat_to_rotvec
+from quadlib.validation import as_finite_number, as_instance, as_matrix, as_positive, as_vector
 
 __all__ = ["AltitudePid", "AttitudePid", "attitude_error", "attitude_pid_gains", "tilt_angle"]
 
 
 def tilt_angle(q_nb) -> float:
     """The angle between body z and the vertical [rad], ``arccos(1 − 2(q₁² + q₂²))`` (E33)."""
-    q = np.asarray(q_nb, dtype=float)
+    q = as_unit_quaternions("q_nb", q_nb)
+    if q.shape != (4,):
+        raise ValueError(f"q_nb: expected one quaternion of shape (4,), got {q.shape}")
+    return _tilt(q)
+
+
+def _tilt(q):
     return float(np.arccos(np.clip(1.0 - 2.0 * (q[1] ** 2 + q[2] ** 2), -1.0, 1.0)))
 
 
 def attitude_error(q_hat, q_ref) -> np.ndarray:
     """The body-frame attitude error ``θ(q̌⁻¹ ⊗ q̂)`` [rad] (E34): the turn from the reference to the
     estimate, in the body's own axes."""
+    q_hat, q_ref = as_unit_quaternions("q_hat", q_hat), as_unit_quaternions("q_ref", q_ref)
+    if q_hat.shape != (4,) or q_ref.shape != (4,):
+        raise ValueError(f"q_hat, q_ref: expected one quaternion each, shape (4,), got {q_hat.shape}, {q_ref.shape}")
+    return _error(q_hat, q_ref)
+
+
+def _error(q_hat, q_ref):
     return quat_to_rotvec(kernels.multiply(quat_conjugate(q_ref), q_hat))
 
 
@@ -51,6 +64,12 @@ class AltitudePid:
     gains: AltitudeGains
     hover_thrust_n: float
     integral: float = 0.0
+
+    def __post_init__(self):
+        if not isinstance(self.gains, AltitudeGains) or not all(np.isfinite(self.gains)):
+            raise TypeError(f"AltitudePid.gains: expected finite AltitudeGains, got {self.gains!r}")
+        self.hover_thrust_n = as_positive("AltitudePid.hover_thrust_n", self.hover_thrust_n)
+        self.integral = as_finite_number("AltitudePid.integral", self.integral)
 
     def thrust(self, s_hat: float, v_hat: float, s_ref: float, v_ref: float, dt: float) -> float:
         error = s_hat - s_ref
@@ -91,9 +110,14 @@ class AttitudePid:
     C_d: np.ndarray
     integral: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
+    def __post_init__(self):
+        for name in ("C_p", "C_i", "C_d"):
+            setattr(self, name, as_matrix(f"AttitudePid.{name}", getattr(self, name), (3, 3)))
+        self.integral = as_vector("AttitudePid.integral", self.integral, 3)
+
     def thrusts(self, thrust_z: float, q_hat, omega_hat, q_ref, omega_ref, dt: float) -> np.ndarray:
-        theta = attitude_error(q_hat, q_ref)
+        theta = _error(q_hat, q_ref)
         self.integral = self.integral + theta * dt
         u = self.C_p @ theta + self.C_i @ self.integral + self.C_d @ (np.asarray(omega_hat) - omega_ref)
-        mean = thrust_z / (4.0 * max(np.cos(tilt_angle(q_hat)), 0.2))  # no more than 5x past 78°
+        mean = thrust_z / (4.0 * max(np.cos(_tilt(q_hat)), 0.2))  # no more than 5x past 78°
         return mean + MIXER @ u

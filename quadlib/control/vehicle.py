@@ -26,7 +26,8 @@ import numpy as np
 
 from quadlib.constants import GRAVITY_N
 from quadlib.geometry import kernels
-from quadlib.validation import check_fields
+from quadlib.geometry.quaternion import as_unit_quaternions
+from quadlib.validation import as_finite_number, as_instance, as_positive, as_vector, check_fields
 
 __all__ = ["MIXER", "QuadrotorParams", "hover_state", "motor_torques", "quadrotor_derivative", "quadrotor_step"]
 
@@ -75,12 +76,28 @@ class QuadrotorParams:
 
 def motor_torques(params: QuadrotorParams, thrusts) -> np.ndarray:
     """Body torque ``τ`` [N·m] of motor thrusts ``(front, right, rear, left)``."""
+    return _torques(as_instance("params", params, QuadrotorParams), as_vector("thrusts", thrusts, 4))
+
+
+def _torques(params, thrusts):
     f, r, b, left = thrusts
     return np.array([params.arm_m * (left - r), params.arm_m * (f - b), params.drag_torque_m * (f + b - r - left)])
 
 
+def _checked(params, X, thrust_cmd):
+    params = as_instance("params", params, QuadrotorParams)
+    X, thrust_cmd = as_vector("X", X, 17), as_vector("thrust_cmd", thrust_cmd, 4)
+    if not X[6:10].any():
+        raise ValueError(f"X: expected a non-zero attitude quaternion in X[6:10], got {X[6:10].tolist()}")
+    return params, X, thrust_cmd
+
+
 def quadrotor_derivative(params: QuadrotorParams, X, thrust_cmd) -> np.ndarray:
     """``Ẋ`` for commanded thrusts ``thrust_cmd`` (clipped to the motors' range)."""
+    return _derivative(*_checked(params, X, thrust_cmd))
+
+
+def _derivative(params, X, thrust_cmd):
     q, omega, T = X[6:10], X[10:13], X[13:17]
     inertia = np.asarray(params.inertia_kg_m2, dtype=float)
     f_n = kernels.dcm(q)[:, 2] * (-T.sum() / params.mass_kg)  # the thrust along −body z, in NED
@@ -91,23 +108,32 @@ def quadrotor_derivative(params: QuadrotorParams, X, thrust_cmd) -> np.ndarray:
     out[0:3] = X[3:6]
     out[3:6] = GRAVITY_N + f_n
     out[6:10] = 0.5 * kernels.multiply(q, np.array([0.0, omega[0], omega[1], omega[2]]))
-    out[10:13] = (motor_torques(params, T) - gyroscopic) / inertia
+    out[10:13] = (_torques(params, T) - gyroscopic) / inertia
     out[13:17] = (np.clip(thrust_cmd, 0.0, params.max_thrust_n) - T) / params.motor_tau_s
     return out
 
 
 def quadrotor_step(params: QuadrotorParams, X, thrust_cmd, dt: float) -> np.ndarray:
     """One Runge–Kutta step of length ``dt`` with the command held."""
-    k1 = quadrotor_derivative(params, X, thrust_cmd)
-    k2 = quadrotor_derivative(params, X + 0.5 * dt * k1, thrust_cmd)
-    k3 = quadrotor_derivative(params, X + 0.5 * dt * k2, thrust_cmd)
-    k4 = quadrotor_derivative(params, X + dt * k3, thrust_cmd)
+    return _step(*_checked(params, X, thrust_cmd), as_positive("dt", dt))
+
+
+def _step(params, X, thrust_cmd, dt):
+    k1 = _derivative(params, X, thrust_cmd)
+    k2 = _derivative(params, X + 0.5 * dt * k1, thrust_cmd)
+    k3 = _derivative(params, X + 0.5 * dt * k2, thrust_cmd)
+    k4 = _derivative(params, X + dt * k3, thrust_cmd)
     out = X + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
     out[6:10] = kernels.normalize(out[6:10])
     return out
 
 
 def hover_state(params: QuadrotorParams, height_m: float = 0.0, q_nb=(1.0, 0.0, 0.0, 0.0)) -> np.ndarray:
-    """At rest at ``height_m`` above the origin, motors at hover thrust."""
+    """At rest at ``height_m`` above the origin with attitude ``q_nb``, motors at hover thrust."""
+    params = as_instance("params", params, QuadrotorParams)
+    height_m = as_finite_number("height_m", height_m)
+    q_nb = as_unit_quaternions("q_nb", q_nb)
+    if q_nb.shape != (4,):
+        raise ValueError(f"q_nb: expected one quaternion of shape (4,), got {q_nb.shape}")
     return np.concatenate([[0.0, 0.0, -height_m], np.zeros(3), q_nb, np.zeros(3),
                            np.full(4, params.hover_thrust_n / 4.0)])
