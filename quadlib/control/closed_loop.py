@@ -7,7 +7,8 @@ magnetometer every 20 ms, the barometer every 40 ms, eqs. 4.13 and 4.17; the noi
 controllers for motor thrusts on the estimate, and integrates the rigid body over the period.
 The estimators are the attitude-and-gyro-bias EKF of chapters 12–13 (gyro, gravity, heading) and
 Kesten's altitude filter (chapter 11), each a :class:`~quadlib.ModelFilter` stepped sample by sample.
-With ``estimator="truth"`` the controllers see the true state: perfect estimation, the baseline.
+With ``estimator="truth"`` the controllers see the true state: perfect estimation, the baseline;
+``"altitude"`` puts only the altitude filter in the loop.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.attitude.altitude import altitude_model, baro_altitude_sensor, vertical_specific_force
+from quadlib.attitude.altitude import altitude_model, baro_altitude_sensor
 from quadlib.attitude.bias_model import attitude_bias_model
 from quadlib.attitude.kesten import AttitudeNoise
 from quadlib.attitude.orientation import gravity_sensor, heading_sensor
@@ -67,7 +68,8 @@ def altitude_step(t_step_s: float = 5.0, height_m: float = 2.0, start_m: float =
     t_step_s, height_m, start_m = (as_finite_number(n, v) for n, v in
                                    (("t_step_s", t_step_s), ("height_m", height_m), ("start_m", start_m)))
     level, still = np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3)
-    return lambda t: Reference(start_m + (height_m if t >= t_step_s else 0.0), 0.0, level, still)
+    before, after = Reference(start_m, 0.0, level, still), Reference(start_m + height_m, 0.0, level, still)
+    return lambda t: after if t >= t_step_s else before
 
 
 def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), height_m: float = 1.0,
@@ -123,6 +125,9 @@ class LoopSensors:
         σ of the gyro bias the filter starts with: what is left after calibrating it on the ground.
     altitude_weight : float
         Kesten's altitude filter's gravity-state weight ``w`` (chapter 11).
+    altitude_accel_sigma_m_s2 : float, optional
+        The accelerometer noise the altitude filter assumes (its ``Q``); by default the true one.
+        Larger trusts the barometer more: a faster, noisier estimate.
     """
 
     noise: AttitudeNoise = AttitudeNoise()
@@ -133,11 +138,13 @@ class LoopSensors:
     gravity_sigma_m_s2: float = 100.0
     gyro_bias_sigma_rad_s: float = 0.005
     altitude_weight: float = 2e-4
+    altitude_accel_sigma_m_s2: float | None = None
 
     def __post_init__(self):
         check_fields(self, {"imu_period_s": "positive", "mag_period_s": "positive", "baro_period_s": "positive",
                             "baro_sigma_m": "positive", "gravity_sigma_m_s2": "positive",
-                            "gyro_bias_sigma_rad_s": "positive", "altitude_weight": "probability"})
+                            "gyro_bias_sigma_rad_s": "positive", "altitude_weight": "probability",
+                            "altitude_accel_sigma_m_s2": "optional positive"})
         if not isinstance(self.noise, AttitudeNoise):
             raise TypeError(f"LoopSensors.noise: expected an AttitudeNoise, got {self.noise!r}")
         for name in ("mag_period_s", "baro_period_s"):
@@ -180,29 +187,35 @@ class ClosedLoopRun:
 class _Filters:
     """The two estimators, stepped one IMU sample at a time."""
 
-    def __init__(self, sensors: LoopSensors, X0: np.ndarray):
+    def __init__(self, sensors: LoopSensors, X0: np.ndarray, attitude: bool):
         n, dt = sensors.noise, sensors.imu_period_s
+        self.estimates_attitude = attitude
         model = attitude_bias_model(n.gyro_sigma_rad_s, 1e-5)
         P0 = np.diag([0.02] * 3 + [sensors.gyro_bias_sigma_rad_s] * 3) ** 2
         self.attitude = ModelEKF(model, np.r_[X0[6:10], 0.0, 0.0, 0.0], P0, dt)
         self.gravity = gravity_sensor(sensors.gravity_sigma_m_s2)
         self.heading = heading_sensor(0.05)
-        altitude = altitude_model(n.accel_sigma_m_s2, sensors.altitude_weight)
+        sigma_a = n.accel_sigma_m_s2 if sensors.altitude_accel_sigma_m_s2 is None else sensors.altitude_accel_sigma_m_s2
+        altitude = altitude_model(sigma_a, sensors.altitude_weight)
         self.altitude = LinearKF(altitude, np.array([-X0[2], 0.0, G0]), np.diag([0.5, 0.1, 0.05]) ** 2, dt)
         self.baro = baro_altitude_sensor(sensors.baro_sigma_m)
         self.gate = 0.9999
 
-    def step(self, gyro, accel, mag, baro, dt):
-        self.attitude.predict(gyro, dt)
-        self.attitude.update_sensor(self.gravity, accel, gate_probability=self.gate)
-        if mag is not None:
-            self.attitude.update_sensor(self.heading, [0.0], gate_probability=self.gate, context=mag)
-        x = self.attitude.estimate
-        self.altitude.predict([float(vertical_specific_force(x[:4], accel))], dt)
+    def step(self, gyro, accel, mag, baro, dt, q_true, omega_true):
+        if self.estimates_attitude:
+            self.attitude.predict(gyro, dt)
+            self.attitude.update_sensor(self.gravity, accel, gate_probability=self.gate)
+            if mag is not None:
+                self.attitude.update_sensor(self.heading, [0.0], gate_probability=self.gate, context=mag)
+            x = self.attitude.estimate
+            q_hat, omega_hat = x[:4], gyro - x[4:]
+        else:
+            q_hat, omega_hat = q_true, omega_true
+        self.altitude.predict([-float(kernels.dcm(q_hat)[2] @ accel)], dt)  # eq. (2.67), unchecked
         if baro is not None:
             self.altitude.update_sensor(self.baro, [baro])
         s = self.altitude.estimate
-        return s[0], s[1], x[:4], gyro - x[4:]
+        return s[0], s[1], q_hat, omega_hat
 
 
 def _as_gains(gains) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -227,10 +240,11 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     reference : callable ``t -> Reference``
     duration_s : float
     params : QuadrotorParams
-    estimator : {"truth", "filters"}
-        What the controllers see: the true state, or the estimates of the two filters.
+    estimator : {"truth", "altitude", "filters"}
+        What the controllers see: the true state; the altitude filter's height and climb rate with
+        the true attitude; or the estimates of both filters.
     rng : numpy.random.Generator
-        Required with ``"filters"`` (sensor noise).
+        Required with a filter in the loop (sensor noise).
     sensors : LoopSensors
     altitude_gains : AltitudeGains, optional
         Default :func:`~quadlib.control.altitude_pid_gains` for ``params.mass_kg`` (Kesten's weights).
@@ -247,9 +261,9 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     duration = as_positive("duration_s", duration_s)
     params = as_instance("params", params, QuadrotorParams)
     sensors = as_instance("sensors", sensors, LoopSensors)
-    if estimator not in ("truth", "filters"):
-        raise ValueError(f"estimator: expected 'truth' or 'filters', got {estimator!r}")
-    if estimator == "filters" or rng is not None:
+    if estimator not in ("truth", "altitude", "filters"):
+        raise ValueError(f"estimator: expected 'truth', 'altitude' or 'filters', got {estimator!r}")
+    if estimator != "truth" or rng is not None:
         rng = as_rng(rng)
     if isinstance(physics_steps, bool) or not isinstance(physics_steps, (int, np.integer)) or physics_steps < 1:
         raise ValueError(f"physics_steps: expected an int >= 1, got {physics_steps!r}")
@@ -268,7 +282,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         if not X[6:10].any():
             raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[6:10], got {X[6:10].tolist()}")
         X[6:10] = kernels.normalize(X[6:10])
-    filters = _Filters(sensors, X) if estimator == "filters" else None
+    filters = None if estimator == "truth" else _Filters(sensors, X, attitude=estimator == "filters")
     mag_every, baro_every = sensors.every(sensors.mag_period_s), sensors.every(sensors.baro_period_s)
     n = sensors.noise
     field_n, gyro_bias = n.field_n, np.asarray(n.gyro_bias_rad_s, dtype=float)
@@ -288,7 +302,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
             accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
             mag = R.T @ field_n + rng.standard_normal(3) * n.mag_sigma if k % mag_every == 0 else None
             baro = -X[2] + rng.standard_normal() * sensors.baro_sigma_m if k % baro_every == 0 else None
-            s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt)
+            s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt, q, omega)
         thrust_z = altitude_pid.thrust(s_hat, v_hat, ref.s, ref.v, dt)
         thrust = attitude_pid.thrusts(thrust_z, q_hat, omega_hat, ref.q_nb, ref.omega, dt)
         for key, value in (("state", X), ("height_est", s_hat), ("climb_est", v_hat), ("q_est", q_hat),

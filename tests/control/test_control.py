@@ -108,7 +108,7 @@ def test_closed_loop_runs_are_deterministic_for_a_seed():
 
 
 def test_bad_settings_are_named():
-    with pytest.raises(ValueError, match="estimator: expected 'truth' or 'filters'"):
+    with pytest.raises(ValueError, match="estimator: expected 'truth', 'altitude' or 'filters'"):
         fly(altitude_step(), 1.0, estimator="kalman")
     with pytest.raises(ValueError, match="LoopSensors.mag_period_s: expected a whole multiple"):
         LoopSensors(mag_period_s=0.021)
