@@ -23,7 +23,7 @@ from quadlib.attitude.bias_model import attitude_bias_model
 from quadlib.attitude.kesten import AttitudeNoise
 from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.constants import G0
-from quadlib.control.controllers import AltitudePid, AttitudePid, attitude_pid_gains
+from quadlib.control.controllers import AltitudePid, AttitudePid, PositionController, attitude_pid_gains
 from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
 from quadlib.control.vehicle import QuadrotorParams, _derivative, _step, hover_state
 from quadlib.filters import LinearKF, ModelEKF
@@ -39,7 +39,7 @@ from quadlib.validation import (
     check_fields,
 )
 
-__all__ = ["ClosedLoopRun", "LoopSensors", "Reference", "altitude_step", "attitude_wave", "fly"]
+__all__ = ["ClosedLoopRun", "LoopSensors", "PathRun", "Reference", "altitude_step", "attitude_wave", "fly", "fly_path"]
 
 
 @dataclass(frozen=True)
@@ -218,6 +218,21 @@ class _Filters:
         return s[0], s[1], q_hat, omega_hat
 
 
+def _read_sensors(params: QuadrotorParams, sensors: LoopSensors, X, thrust, k: int, rng):
+    """The IMU at control step ``k`` from the true state, the magnetometer and barometer on their
+    own periods (None between samples)."""
+    n = sensors.noise
+    R = kernels.dcm(X[6:10])
+    f_b = R.T @ (_derivative(params, X, thrust)[3:6] - np.array([0.0, 0.0, G0]))  # specific force
+    gyro = X[10:13] + np.asarray(n.gyro_bias_rad_s, dtype=float) + rng.standard_normal(3) * n.gyro_sigma_rad_s
+    accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
+    mag = R.T @ n.field_n + rng.standard_normal(3) * n.mag_sigma if k % sensors.every(sensors.mag_period_s) == 0 \
+        else None
+    baro = -X[2] + rng.standard_normal() * sensors.baro_sigma_m if k % sensors.every(sensors.baro_period_s) == 0 \
+        else None
+    return gyro, accel, mag, baro
+
+
 def _as_gains(gains) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     try:
         C = tuple(as_finite_array(f"attitude_gains[{i}]", g) for i, g in enumerate(gains))
@@ -283,9 +298,6 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
             raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[6:10], got {X[6:10].tolist()}")
         X[6:10] = kernels.normalize(X[6:10])
     filters = None if estimator == "truth" else _Filters(sensors, X, attitude=estimator == "filters")
-    mag_every, baro_every = sensors.every(sensors.mag_period_s), sensors.every(sensors.baro_period_s)
-    n = sensors.noise
-    field_n, gyro_bias = n.field_n, np.asarray(n.gyro_bias_rad_s, dtype=float)
     out = {k: [] for k in ("state", "height_est", "climb_est", "q_est", "s_ref", "q_ref", "thrust_cmd")}
     thrust = X[13:17].copy()
     for k in range(K):
@@ -295,13 +307,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         if filters is None:
             s_hat, v_hat, q_hat, omega_hat = -X[2], -X[5], q, omega
         else:
-            R = kernels.dcm(q)
-            accel_n = _derivative(params, X, thrust)[3:6]
-            f_b = R.T @ (accel_n - np.array([0.0, 0.0, G0]))
-            gyro = omega + gyro_bias + rng.standard_normal(3) * n.gyro_sigma_rad_s
-            accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
-            mag = R.T @ field_n + rng.standard_normal(3) * n.mag_sigma if k % mag_every == 0 else None
-            baro = -X[2] + rng.standard_normal() * sensors.baro_sigma_m if k % baro_every == 0 else None
+            gyro, accel, mag, baro = _read_sensors(params, sensors, X, thrust, k, rng)
             s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt, q, omega)
         thrust_z = altitude_pid.thrust(s_hat, v_hat, ref.s, ref.v, dt)
         thrust = attitude_pid.thrusts(thrust_z, q_hat, omega_hat, ref.q_nb, ref.omega, dt)
@@ -315,3 +321,126 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
                          height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),
                          q_est=np.array(out["q_est"]), s_ref=np.array(out["s_ref"]), q_ref=np.array(out["q_ref"]),
                          thrust_cmd=np.array(out["thrust_cmd"]))
+
+
+@dataclass(frozen=True)
+class PathRun:
+    """A closed-loop flight along a path, every control period (``K`` steps).
+
+    Attributes
+    ----------
+    t : (K,) times [s]
+    state : (K, 17) true rigid-body state
+    pos_ref, pos_est : (K, 3) the path's position and the estimate the controller used, NED [m]
+    vel_est : (K, 3) estimated velocity [m/s]
+    q_est : (K, 4) estimated attitude
+    thrust_cmd : (K, 4) commanded motor thrusts [N]
+    """
+
+    t: np.ndarray
+    state: np.ndarray
+    pos_ref: np.ndarray
+    pos_est: np.ndarray
+    vel_est: np.ndarray
+    q_est: np.ndarray
+    thrust_cmd: np.ndarray
+
+
+def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: str = "truth", rng=None,  # noqa: B008
+             sensors: LoopSensors = LoopSensors(), gps_noise=None, ins_params=None,  # noqa: B008
+             gps_period_s: float = 0.1) -> PathRun:
+    """Fly a planned path (a :class:`~quadlib.quad.flight.Flight3D`: chapter 8's square) closed loop
+    with :class:`~quadlib.control.PositionController`, on the true state or on the inertial
+    navigation EKF of chapter 14 (``estimator="ins"``) stepped sample by sample: IMU every control
+    period, magnetometer and barometer on ``sensors``' periods, GPS position and velocity every
+    ``gps_period_s``.
+
+    Parameters
+    ----------
+    path : Flight3D
+        Positions, velocities, accelerations and yaw on a grid whose step divides the control period.
+    params : QuadrotorParams
+    estimator : {"truth", "ins"}
+    rng : numpy.random.Generator
+        Required with ``"ins"``.
+    sensors : LoopSensors
+        IMU, magnetometer and barometer noise and periods.
+    gps_noise : (6,) array_like, optional
+        σ of GPS north, east, down [m] and their velocities [m/s]; default chapter 8's receiver
+        (0.7, 0.7, 2.0, 0.1, 0.1, 0.3).
+    ins_params : InsParams, optional
+        Default: the sensors' noise, GPS as above, the barometer for the height.
+    gps_period_s : float
+    """
+    from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
+    from quadlib.quad.flight import Flight3D
+
+    path = as_instance("path", path, Flight3D)
+    params = as_instance("params", params, QuadrotorParams)
+    sensors = as_instance("sensors", sensors, LoopSensors)
+    if estimator not in ("truth", "ins"):
+        raise ValueError(f"estimator: expected 'truth' or 'ins', got {estimator!r}")
+    if estimator == "ins" or rng is not None:
+        rng = as_rng(rng)
+    dt = sensors.imu_period_s
+    ratio = dt / path.dt
+    if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+        raise ValueError(f"path: expected a time step that divides the control period {dt:g} s, got {path.dt:g} s")
+    every_path = int(round(ratio))
+    gps_every = int(round(as_positive("gps_period_s", gps_period_s) / dt))
+    if gps_every < 1 or abs(gps_every * dt - gps_period_s) > 1e-9:
+        raise ValueError(f"gps_period_s: expected a whole multiple of the control period {dt:g} s, got {gps_period_s}")
+    gps_sigma = as_vector("gps_noise", (0.7, 0.7, 2.0, 0.1, 0.1, 0.3) if gps_noise is None else gps_noise, 6)
+    if np.any(gps_sigma <= 0):
+        raise ValueError(f"gps_noise: expected positive σ, got {gps_sigma.tolist()}")
+    n = sensors.noise
+    if ins_params is None:
+        ins_params = InsParams(gyro_sigma_rad_s=n.gyro_sigma_rad_s, accel_sigma_m_s2=0.3,
+                               gps_pos_sigma_m=tuple(gps_sigma[:3]), gps_vel_sigma_m_s=tuple(gps_sigma[3:]),
+                               use_gps_height=False, baro_sigma_m=sensors.baro_sigma_m, heading_sigma_rad=0.05)
+    ins_params = as_instance("ins_params", ins_params, InsParams)
+
+    C = attitude_pid_gains(params)
+    controller = PositionController(AttitudePid(*C), params.mass_kg)
+    K = (path.t.size - 1) // every_path + 1
+    yaw = np.unwrap(path.euler[:, 2])
+    X = hover_state(params, -path.pos[0, 2], path.q_nb[0])
+    X[0:3] = path.pos[0]
+    ekf = None
+    if estimator == "ins":
+        from quadlib.attitude.orientation import heading_sensor
+        from quadlib.filters import ModelEKF
+
+        x0 = np.concatenate([X[6:10], X[3:6], X[0:3], np.zeros(6)])
+        P0 = ins_params.initial_covariance(gps_sigma[:3], gps_sigma[3:])
+        ekf = ModelEKF(ins_params.model(), x0, P0, dt)
+        gps_sensor = ins_gps_sensor(gps_sigma[:3], gps_sigma[3:], use_height=False)
+        baro_sensor = ins_baro_sensor(ins_params.baro_sigma_m)
+        heading = heading_sensor(ins_params.heading_sigma_rad, dim_x=16, gyro_bias_errors=GYRO_BIAS_ERRORS)
+        gate = ins_params.gate_probability
+    out = {k: [] for k in ("state", "pos_ref", "pos_est", "vel_est", "q_est", "thrust_cmd")}
+    thrust = X[13:17].copy()
+    for k in range(K):
+        j = k * every_path
+        if ekf is None:
+            p_hat, v_hat, q_hat, omega_hat = X[0:3], X[3:6], X[6:10], X[10:13]
+        else:
+            gyro, accel, mag, baro = _read_sensors(params, sensors, X, thrust, k, rng)
+            if k:
+                ekf.predict(np.concatenate([gyro, accel]), dt)
+            if k % gps_every == 0:
+                fix = np.concatenate([X[0:3], X[3:6]]) + rng.standard_normal(6) * gps_sigma
+                ekf.update_sensor(gps_sensor, fix[[0, 1, 3, 4, 5]], gate_probability=gate)
+            if baro is not None:
+                ekf.update_sensor(baro_sensor, [baro], gate_probability=gate)  # heights about the origin
+            if mag is not None:
+                ekf.update_sensor(heading, [0.0], gate_probability=gate, context=mag)
+            x = ekf.estimate
+            p_hat, v_hat, q_hat, omega_hat = x[7:10], x[4:7], x[0:4], gyro - x[10:13]
+        thrust = controller.thrusts(p_hat, v_hat, q_hat, omega_hat, path.pos[j], path.vel[j], path.acc[j], yaw[j],
+                                    path.omega_b[j], dt)
+        for key, value in (("state", X), ("pos_ref", path.pos[j]), ("pos_est", p_hat), ("vel_est", v_hat),
+                           ("q_est", q_hat), ("thrust_cmd", thrust)):
+            out[key].append(np.array(value, dtype=float))
+        X = _step(params, X, thrust, dt)
+    return PathRun(t=np.arange(K) * dt, **{k: np.array(v) for k, v in out.items()})

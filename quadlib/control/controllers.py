@@ -15,17 +15,20 @@ Both controllers take the *estimated* state: the true one for perfect estimation
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from quadlib.constants import G0
 from quadlib.control.lqr import AltitudeGains, lqr_gain
 from quadlib.control.vehicle import MIXER, QuadrotorParams
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate
 from quadlib.validation import as_finite_number, as_instance, as_matrix, as_positive, as_vector
 
-__all__ = ["AltitudePid", "AttitudePid", "attitude_error", "attitude_pid_gains", "tilt_angle"]
+__all__ = ["AltitudePid", "AttitudePid", "PositionController", "attitude_error", "attitude_pid_gains",
+           "thrust_attitude", "tilt_angle"]
 
 
 def tilt_angle(q_nb) -> float:
@@ -124,3 +127,69 @@ class AttitudePid:
         u = self.C_p @ theta + self.C_i @ self.integral + self.C_d @ (np.asarray(omega_hat) - omega_ref)
         mean = thrust_z / (4.0 * max(np.cos(_tilt(q_hat)), 0.2))  # no more than 5x past 78°
         return mean + MIXER @ u
+
+
+def thrust_attitude(accel_n, yaw_rad: float, mass_kg: float) -> tuple[np.ndarray, float]:
+    """The attitude and vertical thrust that give the acceleration ``accel_n`` (NED) [m/s²] facing
+    ``yaw_rad``: the rotors must push along ``F = m (a − g_n)``, so body z points along ``−F``, body x
+    is the heading projected across it, and the vertical thrust is ``−F_z`` [N] (the differential
+    flatness of chapter 8's flights, run backwards). Unchecked: called every control step."""
+    fx, fy, fz = (mass_kg * (accel_n - np.array([0.0, 0.0, G0]))).tolist()
+    norm = math.sqrt(fx * fx + fy * fy + fz * fz)
+    b3 = (-fx / norm, -fy / norm, -fz / norm)
+    hx, hy = math.cos(yaw_rad), math.sin(yaw_rad)
+    b2 = (-b3[2] * hy, b3[2] * hx, b3[0] * hy - b3[1] * hx)  # b3 × heading, heading = (hx, hy, 0)
+    n2 = math.sqrt(b2[0] ** 2 + b2[1] ** 2 + b2[2] ** 2)
+    b2 = (b2[0] / n2, b2[1] / n2, b2[2] / n2)
+    b1 = (b2[1] * b3[2] - b2[2] * b3[1], b2[2] * b3[0] - b2[0] * b3[2], b2[0] * b3[1] - b2[1] * b3[0])
+    R = np.array([[b1[0], b2[0], b3[0]], [b1[1], b2[1], b3[1]], [b1[2], b2[2], b3[2]]])
+    return kernels.from_dcm(R), -fz
+
+
+@dataclass
+class PositionController:
+    """The cascade of a multirotor autopilot (PX4's multicopter position and attitude controllers
+    have this shape): position error → velocity set-point (P, limited) → acceleration set-point
+    (PI on the velocity error, plus the path's own acceleration) → the attitude and thrust that
+    produce it (:func:`thrust_attitude`, the tilt limited) → :class:`AttitudePid` → motor thrusts.
+
+    Parameters
+    ----------
+    attitude : AttitudePid
+    mass_kg : float
+    k_position, k_velocity, k_velocity_integral : float
+        Gains [1/s], [1/s], [1/s²].
+    max_speed_m_s : float
+    max_tilt_rad : float
+    """
+
+    attitude: AttitudePid
+    mass_kg: float
+    k_position: float = 1.5
+    k_velocity: float = 3.0
+    k_velocity_integral: float = 0.5
+    max_speed_m_s: float = 8.0
+    max_tilt_rad: float = float(np.radians(35.0))
+    integral: np.ndarray = field(default_factory=lambda: np.zeros(3))
+
+    def __post_init__(self):
+        self.attitude = as_instance("PositionController.attitude", self.attitude, AttitudePid)
+        for name in ("mass_kg", "k_position", "k_velocity", "k_velocity_integral", "max_speed_m_s", "max_tilt_rad"):
+            setattr(self, name, as_positive(f"PositionController.{name}", getattr(self, name)))
+        self.integral = as_vector("PositionController.integral", self.integral, 3)
+
+    def thrusts(self, p_hat, v_hat, q_hat, omega_hat, p_ref, v_ref, a_ref, yaw_ref: float, omega_ref,
+                dt: float) -> np.ndarray:
+        v_sp = v_ref + self.k_position * (p_ref - p_hat)
+        speed = float(np.linalg.norm(v_sp))
+        if speed > self.max_speed_m_s:
+            v_sp = v_sp * (self.max_speed_m_s / speed)
+        error = v_sp - v_hat
+        self.integral = self.integral + error * dt
+        a_sp = a_ref + self.k_velocity * error + self.k_velocity_integral * self.integral
+        horizontal = float(np.hypot(a_sp[0], a_sp[1]))
+        limit = np.tan(self.max_tilt_rad) * (G0 - a_sp[2])
+        if horizontal > limit > 0.0:
+            a_sp[:2] *= limit / horizontal
+        q_sp, thrust_z = thrust_attitude(a_sp, yaw_ref, self.mass_kg)
+        return self.attitude.thrusts(thrust_z, q_hat, omega_hat, q_sp, omega_ref, dt)

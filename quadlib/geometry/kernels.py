@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-__all__ = ["body_vector_jacobian", "dcm", "exp_rotvec", "multiply", "normalize", "rate_matrix"]
+__all__ = ["body_vector_jacobian", "dcm", "exp_rotvec", "from_dcm", "multiply", "normalize", "rate_matrix"]
 
 
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -41,6 +41,20 @@ def dcm(q: np.ndarray) -> np.ndarray:
     return np.array([[ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz]])
+
+
+def from_dcm(R: np.ndarray) -> np.ndarray:
+    """The unit quaternion (``w ≥ 0``) of a rotation matrix, Shepperd's method: divide by the largest
+    of ``4w², 4x², 4y², 4z²`` (:func:`~quadlib.geometry.quaternion.quat_from_dcm`)."""
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    tr = r00 + r11 + r22
+    squares = (1.0 + tr, 1.0 + 2.0 * r00 - tr, 1.0 + 2.0 * r11 - tr, 1.0 + 2.0 * r22 - tr)
+    big = max(range(4), key=squares.__getitem__)
+    rows = ((squares[0], r21 - r12, r02 - r20, r10 - r01), (r21 - r12, squares[1], r01 + r10, r02 + r20),
+            (r02 - r20, r01 + r10, squares[2], r12 + r21), (r10 - r01, r02 + r20, r12 + r21, squares[3]))
+    q = np.array(rows[big]) / (2.0 * math.sqrt(squares[big]))
+    q = q / math.sqrt(float(q @ q))
+    return q if q[0] >= 0.0 else -q
 
 
 def normalize(q: np.ndarray) -> np.ndarray:

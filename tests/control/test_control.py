@@ -17,11 +17,13 @@ from quadlib.control import (
     attitude_pid_gains,
     attitude_wave,
     fly,
+    fly_path,
     hover_state,
     lqr_gain,
     motor_torques,
     quadrotor_step,
     riccati_gain,
+    thrust_attitude,
     tilt_angle,
 )
 from quadlib.geometry import quat_from_euler, quat_from_rotvec
@@ -112,3 +114,27 @@ def test_bad_settings_are_named():
         fly(altitude_step(), 1.0, estimator="kalman")
     with pytest.raises(ValueError, match="LoopSensors.mag_period_s: expected a whole multiple"):
         LoopSensors(mag_period_s=0.021)
+
+
+def test_thrust_attitude_tilts_toward_the_acceleration_and_holds_the_weight():
+    from quadlib.geometry import quat_to_euler
+
+    q, thrust_z = thrust_attitude(np.array([2.0, 0.0, 0.0]), 0.0, 1.1)
+    roll, pitch, yaw = quat_to_euler(q)
+    assert pitch == pytest.approx(-np.arctan2(2.0, 9.80665), abs=1e-12) and abs(roll) < 1e-12  # nose down
+    assert thrust_z == pytest.approx(1.1 * 9.80665)
+    q_east, _ = thrust_attitude(np.zeros(3), np.pi / 2, 1.1)
+    assert quat_to_euler(q_east)[2] == pytest.approx(np.pi / 2)
+
+
+def test_the_square_flown_closed_loop_on_the_truth_and_on_the_ins():
+    from quadlib.quad.flight import square_course
+
+    square = square_course(leg_s=4.0, turn_s=2.0)
+    truth = fly_path(square)
+    tracking = np.sqrt(np.mean(np.sum((truth.state[:, :3] - truth.pos_ref) ** 2, axis=1)))
+    assert tracking < 0.1  # measured 4 cm
+    ins = fly_path(square, estimator="ins", rng=np.random.default_rng(0))
+    estimate = np.sqrt(np.mean(np.sum((ins.pos_est - ins.state[:, :3]) ** 2, axis=1)))
+    tracking_ins = np.sqrt(np.mean(np.sum((ins.state[:, :3] - ins.pos_ref) ** 2, axis=1)))
+    assert estimate < 0.5 and tracking < tracking_ins < 1.0  # the estimate's error becomes tracking error

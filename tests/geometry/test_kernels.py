@@ -5,6 +5,7 @@ import numpy as np
 from quadlib.attitude.bias_model import quaternion_rate_matrix
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
+    quat_from_dcm,
     quat_from_rotvec,
     quat_multiply,
     quat_normalize,
@@ -23,6 +24,7 @@ def test_each_kernel_equals_its_checked_namesake():
         np.testing.assert_allclose(kernels.normalize(q), quat_normalize(q), rtol=0, atol=1e-15)
         u = quat_normalize(q)
         np.testing.assert_allclose(kernels.dcm(u), quat_to_dcm(u), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.from_dcm(quat_to_dcm(u)), quat_from_dcm(quat_to_dcm(u)), rtol=0, atol=1e-15)
         np.testing.assert_allclose(kernels.rate_matrix(q), quaternion_rate_matrix(q), rtol=0, atol=0)
         np.testing.assert_allclose(kernels.body_vector_jacobian(q, v), vector_jacobian(q, v), rtol=1e-12,
                                    atol=1e-12 * np.abs(v).max())
