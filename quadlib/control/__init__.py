@@ -13,10 +13,11 @@ from .controllers import (
     tilt_angle,
 )
 from .lqr import AltitudeGains, altitude_model_matrices, altitude_pid_gains, lqr_gain, riccati_gain
+from .planar import PlanarRun, hold_distance
 from .vehicle import MIXER, QuadrotorParams, hover_state, motor_torques, quadrotor_derivative, quadrotor_step
 
 __all__ = ["MIXER", "AltitudeGains", "AltitudePid", "AttitudePid", "ClosedLoopRun", "LoopSensors", "PathRun",
-           "PositionController", "QuadrotorParams", "Reference", "altitude_model_matrices", "altitude_pid_gains",
-           "altitude_step", "attitude_error", "attitude_pid_gains", "attitude_wave", "fly", "fly_path", "hover_state",
-           "lqr_gain", "motor_torques", "quadrotor_derivative", "quadrotor_step", "riccati_gain", "thrust_attitude",
-           "tilt_angle"]
+           "PlanarRun", "PositionController", "QuadrotorParams", "Reference", "altitude_model_matrices",
+           "altitude_pid_gains", "altitude_step", "attitude_error", "attitude_pid_gains", "attitude_wave", "fly",
+           "fly_path", "hold_distance", "hover_state", "lqr_gain", "motor_torques", "quadrotor_derivative",
+           "quadrotor_step", "riccati_gain", "thrust_attitude", "tilt_angle"]

@@ -138,3 +138,22 @@ def test_the_square_flown_closed_loop_on_the_truth_and_on_the_ins():
     estimate = np.sqrt(np.mean(np.sum((ins.pos_est - ins.state[:, :3]) ** 2, axis=1)))
     tracking_ins = np.sqrt(np.mean(np.sum((ins.state[:, :3] - ins.pos_ref) ** 2, axis=1)))
     assert estimate < 0.5 and tracking < tracking_ins < 1.0  # the estimate's error becomes tracking error
+
+
+def test_the_2d_quadrotor_holds_half_a_metre_from_the_wall_on_its_own_estimate():
+    from quadlib import ModelUKF
+    from quadlib.control import hold_distance
+    from quadlib.quad import quad2d_model, quad2d_range_sensor
+
+    wall, dt = 5.0, 0.05
+    t = np.arange(0.0, 6.0 + dt / 2, dt)
+    model, sensor = quad2d_model(0.2, np.radians(3.0)), quad2d_range_sensor(0.01, wall_y_m=wall)
+    rng = np.random.default_rng(0)
+    P0 = np.diag([np.radians(3.0) ** 2, 0.05**2, 0.1**2])
+    runs = [hold_distance(model, sensor, ModelUKF(model, [0.0, 0.0, wall - 2.0], P0, dt), t,
+                          [0.0, 0.0, wall - 2.0 + 0.1 * rng.standard_normal()], wall - 0.5, rng, sample_every=2)
+            for _ in range(10)]
+    closest = np.array([(wall - r.truth[:, 2]).min() for r in runs])
+    assert np.all(closest > 0.2) and np.median(closest) < 0.6  # within about half a metre, never touching
+    last = np.array([wall - r.truth[-20:, 2].mean() for r in runs])
+    assert np.all(np.abs(last - 0.5) < 0.2)
