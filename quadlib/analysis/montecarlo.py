@@ -4,7 +4,8 @@
   through a nonlinear function and after one update, up to sampling noise — the yardstick for
   the EKF's linearisation and the UKF's unscented transform (chapters 03–04).
 * :func:`run_monte_carlo` runs several filters on the same simulated flights and collects
-  errors, σ, NEES and NIS for consistency tables (chapters 05–06).
+  errors, σ, NEES and NIS for consistency tables (chapters 05–06); a linear Kalman filter runs over
+  all flights at once (:mod:`~quadlib.analysis.batched`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from quadlib.analysis.batched import batch_supported, run_linear_batch
 from quadlib.analysis.metrics import nees
 from quadlib.model import Model, Sensor
 from quadlib.replay import run_filter
@@ -102,8 +104,8 @@ class MonteCarloRuns:
 
 def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequence[Sensor], x0, P0, t, u,
                     n_runs: int, rng, *, assumed_sensors: Mapping[str, Sequence[Sensor]] | None = None,
-                    corrupt: Callable | None = None,
-                    gate_probability: float | None = None) -> dict[str, MonteCarloRuns]:
+                    corrupt: Callable | None = None, gate_probability: float | None = None,
+                    batched: bool = True) -> dict[str, MonteCarloRuns]:
     """Run every filter on the same ``n_runs`` simulated flights.
 
     Each run draws its true initial state from ``N(x0, P0)`` — the prior the filters start
@@ -133,6 +135,9 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         Applied to each run's samples (dropouts, outliers) before the filters see them.
     gate_probability : float, optional
         NIS gate passed to :func:`~quadlib.replay.run_filter`.
+    batched : bool
+        Run a :class:`~quadlib.LinearKF` over all runs at once (:mod:`~quadlib.analysis.batched`:
+        the same numbers, many times faster); False replays every run on its own.
 
     Returns
     -------
@@ -149,13 +154,14 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         raise TypeError(f"sensors: expected a sequence of Sensor, got {sensors!r:.80}")
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
+    if not isinstance(batched, bool):
+        raise TypeError(f"batched: expected True or False, got {batched!r}")
     assumed_sensors = dict(assumed_sensors or {})
     for name, assumed in assumed_sensors.items():
         if name not in filters or len(assumed) != len(sensors):
             raise ValueError(f"assumed_sensors[{name!r}]: expected {len(sensors)} sensors for a filter in "
                              f"filters, got {len(assumed)}")
-    collected = {name: ([], [], [], {}, {}) for name in filters}
-    truths = []
+    truths, runs_samples = [], []
     for _ in range(int(n_runs)):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
         truths.append(truth)
@@ -164,20 +170,27 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
             samples = list(corrupt(samples, rng))
             if not all(isinstance(m, Measurements) for m in samples):
                 raise TypeError("corrupt: expected it to return a list of Measurements")
-        for name, make in filters.items():
-            seen = samples
-            if name in assumed_sensors:
-                seen = [Measurements(s, m.t, m.z) for s, m in zip(assumed_sensors[name], samples, strict=True)]
-            run = run_filter(make(x0, P0), t, u, seen, gate_probability=gate_probability)
-            errors, sigmas, nees_values, nis, rejected = collected[name]
-            errors.append(run.x - truth)
-            sigmas.append(run.sigma)
-            nees_values.append(nees(run.x - truth, run.P))
-            for sensor_name, trace in run.sensors.items():
-                nis.setdefault(sensor_name, []).append(trace.nis)
-                rejected.setdefault(sensor_name, []).append(int(trace.rejected.sum()))
+        runs_samples.append(samples)
     t, truths = np.asarray(t, dtype=float), np.array(truths)
-    return {name: MonteCarloRuns(t=t, truth=truths, errors=np.array(e), sigma=np.array(s), nees=np.array(v),
-                                 nis={k: np.array(x) for k, x in nis.items()},
-                                 rejected={k: np.array(x) for k, x in rej.items()})
-            for name, (e, s, v, nis, rej) in collected.items()}
+    results = {}
+    for name, make in filters.items():
+        seen_runs = runs_samples
+        if name in assumed_sensors:
+            seen_runs = [[Measurements(s, m.t, m.z) for s, m in zip(assumed_sensors[name], samples, strict=True)]
+                         for samples in runs_samples]
+        first = make(x0, P0)
+        if batched and batch_supported(first, [m.sensor for m in seen_runs[0]], gate_probability):
+            x, P, nis, rejected = run_linear_batch(first, np.broadcast_to(x0, (int(n_runs), len(x0))), t, u,
+                                                   seen_runs, gate_probability)
+        else:
+            runs = [run_filter(first if i == 0 else make(x0, P0), t, u, seen, gate_probability=gate_probability)
+                    for i, seen in enumerate(seen_runs)]
+            x, P = np.array([r.x for r in runs]), np.array([r.P for r in runs])
+            nis = {key: np.array([r.sensors[key].nis for r in runs]) for key in runs[0].sensors}
+            rejected = {key: np.array([int(r.sensors[key].rejected.sum()) for r in runs]) for key in runs[0].sensors}
+        errors = x - truths
+        results[name] = MonteCarloRuns(t=t, truth=truths, errors=errors,
+                                       sigma=np.sqrt(np.clip(np.diagonal(P, axis1=2, axis2=3), 0.0, None)),
+                                       nees=np.array([nees(e, p) for e, p in zip(errors, P, strict=True)]),
+                                       nis=nis, rejected=rejected)
+    return results
