@@ -25,9 +25,10 @@ book: $(STAMP)
 
 NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
 
-# One pytest session: unit tests and every notebook's stored outputs (nbval strict).
+# One pytest session: unit tests and every notebook's stored outputs (nbval strict), on every core
+# (pytest-xdist; --dist loadscope keeps each notebook's cells, which share one kernel, on one worker).
 test: $(STAMP)
-	$(BIN)/python -m pytest tests notebooks $(NBVAL)
+	$(BIN)/python -m pytest -n auto --dist loadscope tests notebooks $(NBVAL)
 
 unit: $(STAMP)
 	$(BIN)/python -m pytest tests
