@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-__all__ = ["body_vector_jacobian", "dcm", "exp_rotvec", "from_dcm", "multiply", "normalize", "rate_matrix"]
+__all__ = ["body_vector_jacobian", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "multiply", "normalize",
+           "rate_matrix"]
 
 
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -41,6 +42,16 @@ def dcm(q: np.ndarray) -> np.ndarray:
     return np.array([[ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz]])
+
+
+def euler_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """``R_nb = R_z(ψ) R_y(θ) R_x(φ)`` of three Z-Y-X Euler angles [rad]
+    (:func:`~quadlib.geometry.rotations.euler_to_dcm`)."""
+    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
+                     [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
+                     [-sp, cp * sr, cp * cr]])
 
 
 def from_dcm(R: np.ndarray) -> np.ndarray:

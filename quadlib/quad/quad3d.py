@@ -20,10 +20,13 @@ every step, and the magnetometer's innovation is wrapped too.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from quadlib.constants import G0
-from quadlib.geometry.rotations import dcm_dyaw, euler_to_dcm, wrap_angle
+from quadlib.geometry import kernels
+from quadlib.geometry.rotations import wrap_angle
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_positive, as_vector
 
@@ -57,15 +60,17 @@ def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "
         raise ValueError(f"gravity: expected 'ned' or 'seed', got {gravity!r}")
     g_n = np.array([0.0, 0.0, G0 if gravity == "ned" else -G0])
 
-    def g(x, u, dt):
-        R = euler_to_dcm(u[4], u[5], x[YAW])
+    def g(x, u, dt):  # a filter's inner step: unchecked (the filter checked its log)
+        R = kernels.euler_dcm(u[4], u[5], x[YAW])
         v_new = x[3:6] + (R @ u[:3] + g_n) * dt
-        return np.concatenate([x[:3] + x[3:6] * dt, v_new, [wrap_angle(x[YAW] + u[3] * dt)]])
+        yaw = x[YAW] + u[3] * dt
+        return np.concatenate([x[:3] + x[3:6] * dt, v_new, [math.pi - (math.pi - yaw) % (2.0 * math.pi)]])
 
     def G(x, u, dt):
         J = np.eye(7)
         J[0:3, 3:6] = dt * np.eye(3)
-        J[3:6, YAW] = dcm_dyaw(u[4], u[5], x[YAW]) @ (u[:3] * dt)  # eq. (51)
+        R = kernels.euler_dcm(u[4], u[5], x[YAW])  # ∂R/∂ψ = [e_z]× R: rows (−R₁, R₀, 0), as dcm_dyaw
+        J[3:6, YAW] = np.array([-R[1], R[0], np.zeros(3)]) @ (u[:3] * dt)  # eq. (51)
         return J
 
     def Q(dt):
