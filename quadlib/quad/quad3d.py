@@ -26,7 +26,6 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.geometry import kernels
-from quadlib.geometry.rotations import wrap_angle
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_positive, as_vector
 
@@ -107,8 +106,12 @@ def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3)
                   groups=((0, 1, 2), (3, 4, 5)), reset_after_s=reset_after_s)
 
 
+def _wrapped(a):  # wrap_angle without its argument check: the filters call this per sigma point
+    return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
+
+
 def _yaw_residual(z, z_hat):
-    return wrap_angle(np.subtract(z, z_hat))
+    return _wrapped(np.subtract(z, z_hat))
 
 
 def _yaw_mean(Z, weights):
@@ -138,7 +141,7 @@ def quad3d_ukf_options() -> dict:
 
     def residual_x(a, b):
         d = np.subtract(a, b)
-        d[YAW] = wrap_angle(d[YAW])
+        d[YAW] = _wrapped(d[YAW])
         return d
 
     def x_mean_fn(sigmas, weights):
