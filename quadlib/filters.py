@@ -178,7 +178,7 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         R = sensor.R
         PHT = self.P @ H_x.T
         self.S = H_x @ PHT + R
-        self.SI = np.linalg.inv(self.S)
+        self.SI = 1.0 / self.S if self.S.shape == (1, 1) else np.linalg.inv(self.S)  # one division is LAPACK's 1x1
         self.K = PHT @ self.SI
         if sensor.uncorrected:  # a consider update: those states keep their value; Joseph's P stays exact
             self.K[list(sensor.uncorrected)] = 0.0
