@@ -157,6 +157,7 @@ from quadlib.nav import (
     ins_model,
     velocity_change_mismatch,
 )
+from quadlib.perception import best_rigid_transform, estimate_normals, icp, point_to_plane_step
 from quadlib.quad import (
     Flight3D,
     Quad3DTuning,
@@ -520,6 +521,20 @@ PROBES = [
     Probe(AttitudePid, lambda: dict(C_p=np.eye(3), C_i=np.eye(3), C_d=np.eye(3)),
           {"C_p": st.sampled_from([np.eye(2), np.full((3, 3), NAN), "C"]), "C_i": st.sampled_from([np.eye(4), "C"]),
            "C_d": st.sampled_from([None, np.ones(3)]), "integral": BAD["vector3"]}),
+    # perception
+    Probe(icp, lambda: dict(source=np.eye(3), target=np.eye(3)),
+          {"source": st.sampled_from([np.zeros((5, 4)), np.zeros((1, 2)), [[NAN, 0.0], [0.0, 0.0]], "s"]),
+           "target": st.sampled_from([np.zeros((5, 2)), "t", None]), "method": st.sampled_from(["normal", None]),
+           "initial": st.sampled_from([(np.eye(2), np.zeros(3)), 1.0, (np.eye(3),)]), "max_iterations": COUNT,
+           "tolerance": POS, "trim": st.sampled_from([1.0, -0.1, NAN, "0.1"]),
+           "target_normals": st.sampled_from([np.zeros((2, 3)), "n"])}),
+    Probe(best_rigid_transform, lambda: dict(p=np.eye(3), q=np.eye(3)),
+          {"p": st.sampled_from([np.zeros((3, 4)), "p"]), "q": st.sampled_from([np.zeros((4, 3)), [[NAN] * 3] * 3])}),
+    Probe(point_to_plane_step, lambda: dict(p=np.eye(3), q=np.eye(3), normals=np.eye(3)),
+          {"p": st.sampled_from([np.zeros((3, 4)), "p"]), "q": st.sampled_from([np.zeros((4, 3)), None]),
+           "normals": st.sampled_from([np.zeros((2, 3)), "n"])}),
+    Probe(estimate_normals, lambda: dict(points=np.random.default_rng(0).normal(size=(20, 3))),
+          {"points": st.sampled_from([np.zeros((2, 3)), "x"]), "neighbours": st.sampled_from([2, 21, 3.5, True])}),
     # data
     Probe(data_path, lambda: dict(relative="broad/trials.json"),
           {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
@@ -866,7 +881,7 @@ PROBES += [
 RESULT = "a result quadlib builds and returns (read it, do not build it)"
 NOT_PROBED = {
     "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT,
-    "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT,
+    "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT, "IcpResult": RESULT,
     "thrust_attitude": "an unchecked inner step of PositionController",
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,
@@ -883,7 +898,7 @@ def _public_callables():
     out = {}
     for module_name in ("quadlib", "quadlib.geometry", "quadlib.sim", "quadlib.analysis", "quadlib.teaching",
                         "quadlib.quad", "quadlib.attitude", "quadlib.fixedwing", "quadlib.data", "quadlib.nav",
-                        "quadlib.control"):
+                        "quadlib.control", "quadlib.perception"):
         module = importlib.import_module(module_name)
         for name in module.__all__:
             obj = getattr(module, name)

@@ -1,0 +1,203 @@
+"""Iterative closest point: the rigid transform that lays one scan onto another (the blog's third
+pipeline, "Iterative Closest Point"), in 2D and 3D.
+
+Each iteration pairs every source point with its nearest target point (scipy's ``cKDTree``), drops
+the worst pairs (``trim``), and solves for the transform that best aligns the pairs, in one of two
+ways:
+
+* **point to point** — minimise ``Σ |R pᵢ + t − qᵢ|²`` exactly: with the centroids ``μ_p, μ_q`` and
+  ``H = Σ (pᵢ − μ_p)(qᵢ − μ_q)ᵀ = U Σ Vᵀ``, ``R = V D Uᵀ`` with ``D = diag(1, …, 1, det(V Uᵀ))`` and
+  ``t = μ_q − R μ_p``. Without ``D`` (the blog writes ``R = V Uᵀ``) a flat or noisy scan can give a
+  reflection (the errata appendix, E26).
+* **point to plane** — minimise ``Σ ((R pᵢ + t − qᵢ)·nᵢ)²``, the distance to the target's local
+  surface, linearised in a small rotation ``δθ``: ``R pᵢ ≈ pᵢ + δθ × pᵢ`` gives one linear equation
+  per pair, ``[(pᵢ × nᵢ)ᵀ, nᵢᵀ] [δθ; t] = (qᵢ − pᵢ)·nᵢ``, solved by least squares (in 2D the rotation
+  is one angle and ``pᵢ × nᵢ`` its z component). The step is applied as an exact rotation.
+
+The result carries a covariance of the transform, ``σ² (JᵀJ)⁻¹`` with ``J`` the residuals' Jacobian
+in (rotation, translation) at the solution and ``σ²`` their mean square: a corridor, whose walls
+say nothing about the position along it, shows up as a huge variance in that direction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from quadlib.validation import as_finite_array, as_positive, as_probability
+
+__all__ = ["IcpResult", "best_rigid_transform", "estimate_normals", "icp", "point_to_plane_step"]
+
+
+@dataclass(frozen=True)
+class IcpResult:
+    """What :func:`icp` found: ``R`` (d, d) and ``t`` (d,) with ``target ≈ R source + t``; the number
+    of ``iterations``; whether it ``converged``; the ``rmse`` of the kept pairs [m]; the ``covariance``
+    of (rotation, translation) — (1 + 2) in 2D, (3 + 3) in 3D."""
+
+    R: np.ndarray
+    t: np.ndarray
+    iterations: int
+    converged: bool
+    rmse: float
+    covariance: np.ndarray
+
+
+def _points(name: str, value) -> np.ndarray:
+    pts = as_finite_array(name, value, ndim=2)
+    if pts.shape[1] not in (2, 3) or pts.shape[0] < pts.shape[1]:
+        raise ValueError(f"{name}: expected at least d points of dimension d = 2 or 3, shape (N, d), got {pts.shape}")
+    return pts
+
+
+def best_rigid_transform(p, q) -> tuple[np.ndarray, np.ndarray]:
+    """``R, t`` minimising ``Σ |R pᵢ + t − qᵢ|²`` for paired points ``p, q`` (N, d): the SVD solution
+    with the reflection guard (module documentation)."""
+    p, q = _points("p", p), _points("q", q)
+    if p.shape != q.shape:
+        raise ValueError(f"p, q: expected paired points of the same shape, got {p.shape} and {q.shape}")
+    mu_p, mu_q = p.mean(axis=0), q.mean(axis=0)
+    U, _, Vt = np.linalg.svd((p - mu_p).T @ (q - mu_q))
+    D = np.eye(p.shape[1])
+    D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+    R = Vt.T @ D @ U.T
+    return R, mu_q - R @ mu_p
+
+
+def _rotation(theta: np.ndarray) -> np.ndarray:
+    """The rotation of angle ``theta`` (2D, one element) or rotation vector (3D), exactly."""
+    if theta.size == 1:
+        c, s = np.cos(theta[0]), np.sin(theta[0])
+        return np.array([[c, -s], [s, c]])
+    angle = float(np.linalg.norm(theta))
+    K = np.array([[0.0, -theta[2], theta[1]], [theta[2], 0.0, -theta[0]], [-theta[1], theta[0], 0.0]])
+    if angle < 1e-12:
+        return np.eye(3) + K
+    return np.eye(3) + np.sin(angle) / angle * K + (1.0 - np.cos(angle)) / angle**2 * K @ K
+
+
+def _cross_n(p: np.ndarray, n: np.ndarray) -> np.ndarray:
+    return (p[:, 0] * n[:, 1] - p[:, 1] * n[:, 0])[:, None] if p.shape[1] == 2 else np.cross(p, n)
+
+
+def point_to_plane_step(p, q, normals) -> tuple[np.ndarray, np.ndarray]:
+    """One linearised point-to-plane step for paired points and the target's unit normals (N, d):
+    the least-squares ``[δθ; t]`` of ``[(pᵢ × nᵢ)ᵀ, nᵢᵀ] [δθ; t] = (qᵢ − pᵢ)·nᵢ``, returned as ``R, t``."""
+    p, q, n = _points("p", p), _points("q", q), _points("normals", normals)
+    if not p.shape == q.shape == n.shape:
+        raise ValueError(f"p, q, normals: expected the same shape, got {p.shape}, {q.shape}, {n.shape}")
+    A = np.hstack([_cross_n(p, n), n])
+    b = np.einsum("ij,ij->i", q - p, n)
+    x = np.linalg.lstsq(A, b, rcond=None)[0]
+    k = 1 if p.shape[1] == 2 else 3
+    return _rotation(x[:k]), x[k:]
+
+
+def estimate_normals(points, neighbours: int = 8) -> np.ndarray:
+    """Unit surface normals (N, d): the direction of least spread of each point's ``neighbours``
+    nearest points (the smallest eigenvector of their covariance)."""
+    pts = _points("points", points)
+    if isinstance(neighbours, bool) or not isinstance(neighbours, (int, np.integer)) or not \
+            pts.shape[1] <= neighbours <= pts.shape[0]:
+        raise ValueError(f"neighbours: expected an int in [{pts.shape[1]}, {pts.shape[0]}], got {neighbours!r}")
+    _, idx = cKDTree(pts).query(pts, k=int(neighbours))
+    local = pts[idx] - pts[idx].mean(axis=1, keepdims=True)
+    _, vectors = np.linalg.eigh(np.einsum("nki,nkj->nij", local, local))
+    return vectors[:, :, 0]
+
+
+def _covariance(p_moved, q, normals, residuals) -> np.ndarray:
+    d = p_moved.shape[1]
+    if normals is None:  # point to point: residual R p + t − q, Jacobian [−[Rp]×, I] (3D) or [perp(Rp), I] (2D)
+        if d == 2:
+            J = np.zeros((2 * len(p_moved), 3))
+            J[0::2, 0], J[1::2, 0] = -p_moved[:, 1], p_moved[:, 0]
+            J[0::2, 1], J[1::2, 2] = 1.0, 1.0
+        else:
+            J = np.zeros((3 * len(p_moved), 6))
+            for i, pm in enumerate(p_moved):
+                J[3 * i:3 * i + 3, :3] = -np.array([[0.0, -pm[2], pm[1]], [pm[2], 0.0, -pm[0]], [-pm[1], pm[0], 0.0]])
+                J[3 * i:3 * i + 3, 3:] = np.eye(3)
+    else:
+        J = np.hstack([_cross_n(p_moved, normals), normals])
+    sigma2 = float(np.mean(residuals**2))
+    return sigma2 * np.linalg.pinv(J.T @ J)
+
+
+def icp(source, target, *, method: str = "point", initial=None, max_iterations: int = 50, tolerance: float = 1e-10,
+        trim: float = 0.0, target_normals=None) -> IcpResult:
+    """Align ``source`` (N, d) to ``target`` (M, d): ``target ≈ R source + t``.
+
+    Parameters
+    ----------
+    method : {"point", "plane"}
+        Point-to-point (exact SVD step) or point-to-plane (linearised step, needs normals).
+    initial : (R, t), optional
+        Start from this transform; default the identity.
+    max_iterations : int
+    tolerance : float
+        Stop when an iteration moves the transform by less than this (rotation [rad] plus
+        translation [m]).
+    trim : float in [0, 1)
+        Fraction of the pairs with the largest distances dropped each iteration (outliers, parts
+        of a scan the other does not see).
+    target_normals : (M, d) array_like, optional
+        For ``"plane"``; estimated with :func:`estimate_normals` when not given.
+    """
+    src, tgt = _points("source", source), _points("target", target)
+    d = src.shape[1]
+    if tgt.shape[1] != d:
+        raise ValueError(f"target: expected points of dimension {d} like source, got shape {tgt.shape}")
+    if method not in ("point", "plane"):
+        raise ValueError(f"method: expected 'point' or 'plane', got {method!r}")
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
+        raise ValueError(f"max_iterations: expected an int >= 1, got {max_iterations!r}")
+    tolerance = as_positive("tolerance", tolerance)
+    if trim != 0.0:
+        trim = as_probability("trim", trim)
+    normals = None
+    if method == "point" and target_normals is not None:
+        raise ValueError("target_normals: expected them only with method='plane', got normals for method='point'")
+    if method == "plane":
+        normals = estimate_normals(tgt) if target_normals is None else _points("target_normals", target_normals)
+        if normals.shape != tgt.shape:
+            raise ValueError(f"target_normals: expected one per target point, shape {tgt.shape}, got {normals.shape}")
+    if initial is None:
+        R, t = np.eye(d), np.zeros(d)
+    else:
+        try:
+            R, t = (as_finite_array("initial", a) for a in initial)
+        except (TypeError, ValueError) as err:
+            raise ValueError(f"initial: expected (R, t) of shapes ({d}, {d}) and ({d},), got {initial!r:.60}") from err
+        if R.shape != (d, d) or t.shape != (d,):
+            raise ValueError(f"initial: expected (R, t) of shapes ({d}, {d}) and ({d},), got {R.shape}, {t.shape}")
+    tree = cKDTree(tgt)
+    keep_n = max(d + 1, int(round((1.0 - trim) * src.shape[0])))
+    converged, iterations = False, 0
+    while iterations < max_iterations:
+        iterations += 1
+        moved = src @ R.T + t
+        dist, idx = tree.query(moved)
+        keep = np.argsort(dist, kind="stable")[:keep_n]
+        if normals is None:
+            dR, dt = best_rigid_transform(moved[keep], tgt[idx[keep]])
+        else:
+            dR, dt = point_to_plane_step(moved[keep], tgt[idx[keep]], normals[idx[keep]])
+        R, t = dR @ R, dR @ t + dt
+        change = float(np.arccos(np.clip((np.trace(dR) - (d - 2)) / 2.0, -1.0, 1.0))) + float(np.linalg.norm(dt))
+        if change < tolerance:
+            converged = True
+            break
+    moved = src @ R.T + t
+    dist, idx = tree.query(moved)
+    keep = np.argsort(dist, kind="stable")[:keep_n]
+    if normals is None:
+        residuals = (moved[keep] - tgt[idx[keep]]).ravel()
+        cov = _covariance(moved[keep], tgt[idx[keep]], None, residuals)
+    else:
+        residuals = np.einsum("ij,ij->i", moved[keep] - tgt[idx[keep]], normals[idx[keep]])
+        cov = _covariance(moved[keep], tgt[idx[keep]], normals[idx[keep]], residuals)
+    return IcpResult(R=R, t=t, iterations=iterations, converged=converged,
+                     rmse=float(np.sqrt(np.mean(dist[keep] ** 2))), covariance=cov)

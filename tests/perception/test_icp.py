@@ -1,0 +1,71 @@
+"""ICP: exact on noise-free data in 2D and 3D, the reflection guard, point-to-plane's speed, outliers
+trimmed, and the corridor's degeneracy in the covariance."""
+
+import numpy as np
+import pytest
+
+from quadlib.geometry import quat_from_rotvec, quat_to_dcm
+from quadlib.perception import best_rigid_transform, estimate_normals, icp
+
+RNG = np.random.default_rng(0)
+S = np.linspace(0.0, 1.0, 100)
+ROOM = np.vstack([np.column_stack([10 * S, 0 * S]), np.column_stack([10 * S, 0 * S + 6]),
+                  np.column_stack([0 * S, 6 * S]), np.column_stack([0 * S + 10, 6 * S])])
+
+
+def _turn(a):
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+def test_the_svd_step_is_exact_and_never_a_reflection():
+    P = RNG.uniform(-5, 5, (50, 3))
+    R, t = quat_to_dcm(quat_from_rotvec([0.2, -0.1, 0.3])), np.array([0.5, -0.3, 0.2])
+    R_hat, t_hat = best_rigid_transform(P, P @ R.T + t)
+    assert np.abs(R_hat - R).max() < 1e-12 and np.abs(t_hat - t).max() < 1e-12
+    mirrored = P * [1.0, 1.0, -1.0]  # no rotation does this; the unguarded V Uᵀ answers with the mirror
+    U, _, Vt = np.linalg.svd((P - P.mean(0)).T @ (mirrored - mirrored.mean(0)))
+    assert np.linalg.det(Vt.T @ U.T) == pytest.approx(-1.0)
+    R_hat, _ = best_rigid_transform(P, mirrored)
+    assert np.linalg.det(R_hat) == pytest.approx(1.0)
+
+
+def test_icp_recovers_a_known_transform_in_3d():
+    P = RNG.uniform(-5, 5, (300, 3))
+    R, t = quat_to_dcm(quat_from_rotvec([0.2, -0.1, 0.3])), np.array([0.5, -0.3, 0.2])
+    result = icp(P, P @ R.T + t)
+    assert result.converged and np.abs(result.R - R).max() < 1e-9 and np.abs(result.t - t).max() < 1e-9
+
+
+def test_point_to_plane_aligns_a_room_exactly_and_faster_than_point_to_point():
+    R, t = _turn(0.1), np.array([0.3, -0.2])
+    source = (ROOM - t) @ R  # R source + t = ROOM
+    plane = icp(source, ROOM, method="plane")
+    assert plane.converged and np.abs(plane.R - R).max() < 1e-9 and np.abs(plane.t - t).max() < 1e-9
+    point = icp(source, ROOM, method="point", max_iterations=200)
+    assert point.iterations > 5 * plane.iterations  # points slide along the walls
+
+
+def test_trimming_ignores_outliers():
+    R, t = _turn(0.05), np.array([0.1, 0.2])
+    source = np.vstack([(ROOM - t) @ R, RNG.uniform(2, 8, (30, 2))])  # 30 points the target never saw
+    trimmed = icp(source, ROOM, method="plane", trim=0.1)
+    untrimmed = icp(source, ROOM, method="plane")
+    assert np.abs(trimmed.t - t).max() < 1e-6
+    assert np.abs(untrimmed.t - t).max() > 10 * np.abs(trimmed.t - t).max()
+
+
+def test_a_corridor_leaves_its_length_unknown():
+    corridor = np.vstack([np.column_stack([30 * S, 0 * S]), np.column_stack([30 * S, 0 * S + 2])])
+    noisy = corridor + RNG.normal(size=corridor.shape) * 0.01
+    result = icp(noisy + [0.0, 0.05], corridor, method="plane", target_normals=estimate_normals(corridor))
+    along, across = result.covariance[1, 1], result.covariance[2, 2]
+    assert along > 10 * across
+
+
+def test_bad_inputs_are_named():
+    with pytest.raises(ValueError, match="method: expected 'point' or 'plane'"):
+        icp(ROOM, ROOM, method="normal")
+    with pytest.raises(ValueError, match=r"target: expected points of dimension 2"):
+        icp(ROOM, np.zeros((10, 3)))
+    with pytest.raises(ValueError, match="source: expected at least d points"):
+        icp(np.zeros((5, 4)), ROOM)
