@@ -157,7 +157,15 @@ from quadlib.nav import (
     ins_model,
     velocity_change_mismatch,
 )
-from quadlib.perception import best_rigid_transform, estimate_normals, icp, point_to_plane_step
+from quadlib.perception import (
+    best_rigid_transform,
+    corridor_map,
+    estimate_normals,
+    icp,
+    lidar_scan,
+    point_to_plane_step,
+    room_map,
+)
 from quadlib.quad import (
     Flight3D,
     Quad3DTuning,
@@ -535,6 +543,12 @@ PROBES = [
            "normals": st.sampled_from([np.zeros((2, 3)), "n"])}),
     Probe(estimate_normals, lambda: dict(points=np.random.default_rng(0).normal(size=(20, 3))),
           {"points": st.sampled_from([np.zeros((2, 3)), "x"]), "neighbours": st.sampled_from([2, 21, 3.5, True])}),
+    Probe(lidar_scan, lambda: dict(pose=[1.0, 1.0, 0.0], segments=room_map(), rng=np.random.default_rng(0)),
+          {"pose": BAD["vector3"], "segments": st.sampled_from([np.zeros((3, 2)), np.full((2, 2, 2), NAN), "m"]),
+           "rng": BAD["rng"], "beams": COUNT, "max_range_m": POS, "range_sigma_m": NONNEG,
+           "dropout": st.sampled_from([1.0, -0.1, NAN, "0.1", True])}),
+    Probe(room_map, lambda: {}, {"width_m": POS, "depth_m": POS, "pillars": st.sampled_from([-1, 1.5, True, "2"])}),
+    Probe(corridor_map, lambda: {}, {"length_m": POS, "width_m": POS}),
     # data
     Probe(data_path, lambda: dict(relative="broad/trials.json"),
           {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
@@ -881,7 +895,7 @@ PROBES += [
 RESULT = "a result quadlib builds and returns (read it, do not build it)"
 NOT_PROBED = {
     "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT,
-    "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT, "IcpResult": RESULT,
+    "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT, "IcpResult": RESULT, "LidarScan": RESULT,
     "thrust_attitude": "an unchecked inner step of PositionController",
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,
