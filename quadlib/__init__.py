@@ -13,7 +13,10 @@ sits at the top. Around it, one subpackage per concern:
 ``quad``       the quadrotor models, flights and the blog's pipeline
 ``attitude``   complementary filters, Kesten's attitude filters, the altitude filter
 ``fixedwing``  Salmony's fixed-wing model, flight and estimators
-``data``       real sensor data
+``nav``        the inertial navigation EKF, and the checks that align a real log's IMU and GPS
+``control``    Kesten's controllers, a rigid-body quadrotor and the estimator-in-the-loop simulators
+``perception`` a 2D lidar and ICP scan matching, for navigation without GPS
+``data``       real sensor data (BROAD trials, PX4 logs)
 
 Dependencies run one way: simulators and estimators depend on models and the core, never on
 each other. Conventions (chapter 0): earth frame NED, body frame FRD, SI units, quaternions
