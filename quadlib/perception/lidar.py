@@ -15,7 +15,7 @@ import numpy as np
 
 from quadlib.validation import as_finite_array, as_positive, as_rng, as_vector
 
-__all__ = ["LidarScan", "corridor_map", "lidar_scan", "room_map"]
+__all__ = ["LidarScan", "cast_rays", "corridor_map", "lidar_scan", "room_map"]
 
 
 def _box(x0, y0, x1, y1):
@@ -51,6 +51,24 @@ class LidarScan:
     points: np.ndarray
 
 
+def cast_rays(origins: np.ndarray, headings: np.ndarray, bearings: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Ranges ``(N, B)`` to the first wall along each bearing from each of ``N`` poses (``inf`` where a
+    beam meets none). Unchecked: the scan simulator and the particle filter call it with checked arrays."""
+    d = np.stack([np.cos(headings[:, None] + bearings), np.sin(headings[:, None] + bearings)], axis=-1)  # (N, B, 2)
+    a, e = segments[:, 0], segments[:, 1] - segments[:, 0]  # (S, 2)
+    # p + r d = a + s e  <=>  [d, −e] [r, s]ᵀ = a − p, by Cramer's rule for every pose, beam and wall
+    rel = a[None, :, :] - origins[:, None, :]  # (N, S, 2)
+    dx, dy = d[:, :, None, 0], d[:, :, None, 1]  # (N, B, 1)
+    ex, ey = e[None, None, :, 0], e[None, None, :, 1]  # (1, 1, S)
+    rx, ry = rel[:, None, :, 0], rel[:, None, :, 1]  # (N, 1, S)
+    det = -dx * ey + dy * ex
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = (-rx * ey + ry * ex) / det
+        s = (dx * ry - dy * rx) / det
+    hit = (np.abs(det) > 1e-12) & (r > 0.0) & (s >= 0.0) & (s <= 1.0)
+    return np.where(hit, r, np.inf).min(axis=2)
+
+
 def lidar_scan(pose, segments, rng, *, beams: int = 360, max_range_m: float = 20.0, range_sigma_m: float = 0.01,
                dropout: float = 0.0) -> LidarScan:
     """Scan ``segments`` (S, 2, 2) from ``pose = (x, y, yaw)`` [m, m, rad]."""
@@ -66,16 +84,7 @@ def lidar_scan(pose, segments, rng, *, beams: int = 360, max_range_m: float = 20
         raise ValueError(f"dropout: expected a fraction in [0, 1), got {dropout!r}")
     rng = as_rng(rng)
     bearings = np.arange(int(beams)) * (2.0 * np.pi / beams) - np.pi
-    d = np.column_stack([np.cos(yaw + bearings), np.sin(yaw + bearings)])  # (B, 2)
-    a, e = seg[:, 0], seg[:, 1] - seg[:, 0]  # (S, 2)
-    # p + r d = a + s e  <=>  [d, −e] [r, s]ᵀ = a − p, by Cramer's rule for every beam and wall
-    rel = a - np.array([x, y])
-    det = d[:, None, 0] * (-e[None, :, 1]) - d[:, None, 1] * (-e[None, :, 0])  # (B, S)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = (rel[None, :, 0] * (-e[None, :, 1]) - rel[None, :, 1] * (-e[None, :, 0])) / det
-        s = (d[:, None, 0] * rel[None, :, 1] - d[:, None, 1] * rel[None, :, 0]) / det
-    hit = (np.abs(det) > 1e-12) & (r > 0.0) & (s >= 0.0) & (s <= 1.0)
-    ranges = np.where(hit, r, np.inf).min(axis=1)
+    ranges = cast_rays(np.array([[x, y]]), np.array([yaw]), bearings, seg)[0]
     noise = rng.standard_normal(ranges.size) * sigma
     dropped = rng.random(ranges.size) < dropout
     ranges = np.where(np.isfinite(ranges) & (ranges <= max_range) & ~dropped, ranges + noise, np.nan)
