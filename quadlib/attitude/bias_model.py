@@ -110,16 +110,12 @@ def _add_jacobian(x):
     return J
 
 
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 def gyro_error_jacobians(phi, dt: float) -> tuple[np.ndarray, np.ndarray]:
     """How an attitude error ``δθ`` (``q ⊗ exp(δθ)``) and a gyro-bias error ``δb`` move through one gyro
     step ``φ = (ω − b) Δt``: ``∂δθ⁺/∂δθ = R(φ)ᵀ`` (the error turns back with the step) and
     ``∂δθ⁺/∂δb = −Δt J_r(φ)``, SO(3)'s right Jacobian
     ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``. Unchecked (a model's ``G``)."""
-    theta, K = float(np.linalg.norm(phi)), _skew(phi)
+    theta, K = float(np.linalg.norm(phi)), kernels.skew(phi)
     if theta > 1e-6:
         a, b = (1.0 - np.cos(theta)) / theta**2, (theta - np.sin(theta)) / theta**3
     else:  # the series of both coefficients

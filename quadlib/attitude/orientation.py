@@ -142,9 +142,8 @@ def _field_heading_jacobian(dim_x: int):
         R = kernels.dcm(x[:4])
         m_n = R @ m_b
         d_psi = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
-        skew = np.array([[0.0, -m_b[2], m_b[1]], [m_b[2], 0.0, -m_b[0]], [-m_b[1], m_b[0], 0.0]])
         J = np.zeros((1, dim_x))
-        J[0, :4] = (-d_psi @ R @ skew) @ (2.0 * kernels.rate_matrix(x[:4]).T)
+        J[0, :4] = (-d_psi @ R @ kernels.skew(m_b)) @ (2.0 * kernels.rate_matrix(x[:4]).T)
         return J
 
     return H

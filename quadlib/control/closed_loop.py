@@ -29,6 +29,8 @@ from quadlib.control.vehicle import QuadrotorParams, _derivative, _step, hover_s
 from quadlib.filters import LinearKF, ModelEKF
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate, quat_to_rotvec
+from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
+from quadlib.quad.flight import Flight3D
 from quadlib.validation import (
     as_finite_array,
     as_finite_number,
@@ -372,9 +374,6 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
         Default: the sensors' noise, GPS as above, the barometer for the height.
     gps_period_s : float
     """
-    from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
-    from quadlib.quad.flight import Flight3D
-
     path = as_instance("path", path, Flight3D)
     params = as_instance("params", params, QuadrotorParams)
     sensors = as_instance("sensors", sensors, LoopSensors)
@@ -408,9 +407,6 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
     X[0:3] = path.pos[0]
     ekf = None
     if estimator == "ins":
-        from quadlib.attitude.orientation import heading_sensor
-        from quadlib.filters import ModelEKF
-
         x0 = np.concatenate([X[6:10], X[3:6], X[0:3], np.zeros(6)])
         P0 = ins_params.initial_covariance(gps_sigma[:3], gps_sigma[3:])
         ekf = ModelEKF(ins_params.model(), x0, P0, dt)

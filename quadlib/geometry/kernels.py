@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 __all__ = ["body_vector_jacobian", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "multiply", "normalize",
-           "rate_matrix"]
+           "rate_matrix", "skew"]
 
 
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -66,6 +66,11 @@ def from_dcm(R: np.ndarray) -> np.ndarray:
     q = np.array(rows[big]) / (2.0 * math.sqrt(squares[big]))
     q = q / math.sqrt(float(q @ q))
     return q if q[0] >= 0.0 else -q
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """``[v]×``, the matrix of the cross product: ``[v]× w = v × w``."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 def normalize(q: np.ndarray) -> np.ndarray:

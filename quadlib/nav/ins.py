@@ -64,10 +64,6 @@ Q_, V, P, BG, BA = slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(
 GYRO_BIAS_ERRORS = (9, 10, 11)  # in δx
 
 
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 def _step(x, u, dt):
     q = x[Q_]
     f = u[3:] - x[BA]
@@ -84,7 +80,7 @@ def _error_jacobian(x, u, dt):
     f = u[3:] - x[BA]
     F = np.eye(15)
     F[0:3, 0:3], F[0:3, 9:12] = gyro_error_jacobians((u[:3] - x[BG]) * dt, dt)
-    dv_dtheta, dv_dba = -dt * R @ _skew(f), -dt * R
+    dv_dtheta, dv_dba = -dt * R @ kernels.skew(f), -dt * R
     F[3:6, 0:3], F[3:6, 12:15] = dv_dtheta, dv_dba
     F[6:9, 0:3], F[6:9, 12:15] = 0.5 * dt * dv_dtheta, 0.5 * dt * dv_dba
     F[6:9, 3:6] = dt * np.eye(3)
@@ -287,9 +283,8 @@ def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 
     if isinstance(n_average, bool) or not isinstance(n_average, (int, np.integer)) or not 1 <= n_average <= len(log):
         raise ValueError(f"n_average: expected an int in [1, {len(log)}], got {n_average!r}")
     f = np.nanmean(log.accel[:n_average], axis=0)
+    # without a magnetometer a "field" along body x: the body's heading is north
     m = np.array([1.0, 0.0, 0.0]) if log.mag is None else np.nanmean(log.mag[:n_average * 5], axis=0)
-    if log.mag is None:  # a field along body x: the heading is the body's
-        m = quat_to_dcm(attitude_from_accel_mag(f[None], [[1.0, 0.0, 0.0]]).q_nb[0]).T @ [1.0, 0.0, 0.0]
     start = attitude_from_accel_mag(f[None], m[None])
     if not start.valid[0]:
         raise ValueError(f"log: expected the first {n_average} samples to give an attitude (gravity and a field not "

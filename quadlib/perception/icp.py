@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from quadlib.geometry import kernels
 from quadlib.validation import as_finite_array, as_positive, as_probability
 
 __all__ = ["IcpResult", "best_rigid_transform", "estimate_normals", "icp", "point_to_plane_step"]
@@ -72,7 +73,7 @@ def _rotation(theta: np.ndarray) -> np.ndarray:
         c, s = np.cos(theta[0]), np.sin(theta[0])
         return np.array([[c, -s], [s, c]])
     angle = float(np.linalg.norm(theta))
-    K = np.array([[0.0, -theta[2], theta[1]], [theta[2], 0.0, -theta[0]], [-theta[1], theta[0], 0.0]])
+    K = kernels.skew(theta)
     if angle < 1e-12:
         return np.eye(3) + K
     return np.eye(3) + np.sin(angle) / angle * K + (1.0 - np.cos(angle)) / angle**2 * K @ K
@@ -118,7 +119,7 @@ def _covariance(p_moved, q, normals, residuals) -> np.ndarray:
         else:
             J = np.zeros((3 * len(p_moved), 6))
             for i, pm in enumerate(p_moved):
-                J[3 * i:3 * i + 3, :3] = -np.array([[0.0, -pm[2], pm[1]], [pm[2], 0.0, -pm[0]], [-pm[1], pm[0], 0.0]])
+                J[3 * i:3 * i + 3, :3] = -kernels.skew(pm)
                 J[3 * i:3 * i + 3, 3:] = np.eye(3)
     else:
         J = np.hstack([_cross_n(p_moved, normals), normals])
