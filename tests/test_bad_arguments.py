@@ -159,12 +159,21 @@ from quadlib.nav import (
 )
 from quadlib.perception import (
     best_rigid_transform,
+    corner_start,
     corridor_map,
+    effective_sample_size,
     estimate_normals,
+    hypothesis_particles,
     icp,
     lidar_scan,
+    localise,
+    odometry_step,
+    particle_pose,
     point_to_plane_step,
+    pose_error,
+    resample,
     room_map,
+    scan_log_likelihood,
 )
 from quadlib.quad import (
     Flight3D,
@@ -254,6 +263,8 @@ BAD = {
     "imu stream": st.sampled_from([np.zeros((99, 3)), np.zeros((100, 2)), np.full((100, 3), INF), "g", None]),
 }
 POS, FIN, PROB, COUNT = BAD["positive"], BAD["finite"], BAD["probability"], BAD["count"]
+WEIGHTS = st.sampled_from([[-1.0, 2.0], [], [NAN, 1.0], [0.0, 0.0], "w", None])
+POSES = st.sampled_from([np.zeros((3, 2)), np.zeros((0, 3)), [[NAN, 0.0, 0.0]], "p", None])
 NONNEG = st.sampled_from([-1.0, NAN, INF, "1"])
 
 
@@ -547,7 +558,40 @@ PROBES = [
           {"pose": BAD["vector3"], "segments": st.sampled_from([np.zeros((3, 2)), np.full((2, 2, 2), NAN), "m"]),
            "rng": BAD["rng"], "beams": COUNT, "max_range_m": POS, "range_sigma_m": NONNEG,
            "dropout": st.sampled_from([1.0, -0.1, NAN, "0.1", True])}),
-    Probe(room_map, lambda: {}, {"width_m": POS, "depth_m": POS, "pillars": st.sampled_from([-1, 1.5, True, "2"])}),
+    Probe(room_map, lambda: {}, {"width_m": POS, "depth_m": POS, "pillars": st.sampled_from([-1, 1.5, True, "2"]),
+                                 "boxes": st.sampled_from([[1.0, 2.0], [[1, 1, 0.5, 2]], [[0, 0, 1, NAN]], "b"])}),
+    Probe(effective_sample_size, lambda: dict(weights=[0.5, 0.5]), {"weights": WEIGHTS}),
+    Probe(resample, lambda: dict(weights=[0.5, 0.5], rng=np.random.default_rng(0)),
+          {"weights": WEIGHTS, "rng": BAD["rng"], "scheme": st.sampled_from(["best", None, 1])}),
+    Probe(odometry_step, lambda: dict(particles=np.zeros((3, 3)), odometry=[1.0, 0.0], dt=0.1,
+                                      rng=np.random.default_rng(0), sigma=(0.1, 0.1)),
+          {"particles": POSES, "odometry": st.sampled_from([[1.0], [NAN, 0.0], "v"]), "dt": POS, "rng": BAD["rng"],
+           "sigma": st.sampled_from([(0.1,), (-0.1, 0.1), (NAN, 0.1), "s"])}),
+    Probe(scan_log_likelihood, lambda: dict(particles=np.ones((3, 3)), bearings=[0.0, 1.0], ranges=[1.0, np.nan],
+                                            segments=room_map(), max_range_m=5.0, sigma_m=0.3),
+          {"particles": POSES, "bearings": st.sampled_from([[0.0], [NAN, 0.0], "b"]),
+           "ranges": st.sampled_from([[1.0], [INF, 1.0], [-1.0, 1.0], "r"]),
+           "segments": st.sampled_from([np.zeros((3, 2)), "m"]), "max_range_m": POS, "sigma_m": POS, "outlier": PROB}),
+    Probe(particle_pose, lambda: dict(particles=np.ones((2, 3)), weights=[1.0, 1.0]),
+          {"particles": POSES, "weights": st.one_of(WEIGHTS, st.just([1.0, 1.0, 1.0]))}),
+    Probe(pose_error, lambda: dict(estimate=[0.0, 0.0, 0.0], truth=[1.0, 0.0, 0.0]),
+          {"estimate": st.sampled_from([[0.0, 0.0], [NAN, 0.0, 0.0], "p"]),
+           "truth": st.sampled_from([np.zeros((2, 3)), [INF, 0.0, 0.0], None])}),
+    Probe(localise, lambda: dict(particles=np.full((4, 3), 2.0), odometry=[[0.5, 0.0]], scans=[[1.0, np.nan]],
+                                 bearings=[0.0, 1.0], segments=room_map(), dt=0.2, rng=np.random.default_rng(0),
+                                 max_range_m=4.0),
+          {"particles": POSES, "odometry": st.sampled_from([[[0.5]], [[NAN, 0.0]], "o"]),
+           "scans": st.sampled_from([[[1.0, 1.0]] * 2, [1.0, 1.0], "s"]), "bearings": st.sampled_from([[0.0], "b"]),
+           "segments": st.sampled_from([np.zeros((3, 2)), "m"]), "dt": POS, "rng": BAD["rng"],
+           "odometry_sigma": st.sampled_from([(0.1,), (-0.1, 0.1), "s"]), "max_range_m": POS, "sigma_m": POS,
+           "outlier": PROB, "scheme": st.sampled_from(["best", None]),
+           "resample_below": st.sampled_from([-0.1, 1.5, NAN, "0.5"])}),
+    Probe(corner_start, lambda: dict(rng=np.random.default_rng(0), duration_s=0.4),
+          {"rng": BAD["rng"], "beams": COUNT, "speed_m_s": POS, "duration_s": st.sampled_from([0.0, NAN, 60.0, "1"]),
+           "dt": POS, "odometry_sigma": st.sampled_from([(0.1,), (-0.1, 0.1), "s"]), "range_sigma_m": NONNEG,
+           "dropout": st.sampled_from([1.0, -0.1, "0.1"])}),
+    Probe(hypothesis_particles, lambda: dict(hypotheses=np.zeros((2, 3)), n=10, rng=np.random.default_rng(0)),
+          {"hypotheses": POSES, "n": COUNT, "rng": BAD["rng"], "sigma": st.sampled_from([(0.1,), (-0.1, 0, 0), "s"])}),
     Probe(corridor_map, lambda: {}, {"length_m": POS, "width_m": POS}),
     # data
     Probe(data_path, lambda: dict(relative="broad/trials.json"),
@@ -897,6 +941,8 @@ NOT_PROBED = {
     "AbsoluteAttitude": RESULT, "AttitudeRun": RESULT, "BroadTrial": RESULT, "FlightLog": RESULT,
     "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT, "IcpResult": RESULT, "LidarScan": RESULT,
     "thrust_attitude": "an unchecked inner step of PositionController",
+    "cast_rays": "the unchecked ray-casting kernel of lidar_scan and scan_log_likelihood (both probed)",
+    "LocalisationRun": RESULT, "LocalisationScenario": RESULT,
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,

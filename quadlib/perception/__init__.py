@@ -1,7 +1,22 @@
-"""Perception for navigation without GPS: a 2D lidar in a map of walls, and scan matching (ICP)."""
+"""Perception for navigation without GPS: a 2D lidar in a map of walls, scan matching (ICP), and a
+particle filter that localises against the map from an ambiguous start."""
 
 from .icp import IcpResult, best_rigid_transform, estimate_normals, icp, point_to_plane_step
-from .lidar import LidarScan, corridor_map, lidar_scan, room_map
+from .lidar import LidarScan, cast_rays, corridor_map, lidar_scan, room_map
+from .particles import (
+                        RESAMPLING_SCHEMES,
+                        LocalisationRun,
+                        effective_sample_size,
+                        localise,
+                        odometry_step,
+                        particle_pose,
+                        pose_error,
+                        resample,
+                        scan_log_likelihood,
+)
+from .scenario import LocalisationScenario, corner_start, hypothesis_particles
 
-__all__ = ["IcpResult", "LidarScan", "best_rigid_transform", "corridor_map", "estimate_normals", "icp", "lidar_scan",
-           "point_to_plane_step", "room_map"]
+__all__ = ["RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario",
+           "best_rigid_transform", "cast_rays", "corner_start", "corridor_map", "effective_sample_size",
+           "estimate_normals", "hypothesis_particles", "icp", "lidar_scan", "localise", "odometry_step",
+           "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood"]

@@ -23,15 +23,21 @@ def _box(x0, y0, x1, y1):
     return np.stack([corners, np.roll(corners, -1, axis=0)], axis=1)
 
 
-def room_map(width_m: float = 20.0, depth_m: float = 12.0, pillars: int = 2) -> np.ndarray:
-    """Wall segments ``(S, 2, 2)`` of a rectangular room with square pillars (0.6 m) along its middle."""
+def room_map(width_m: float = 20.0, depth_m: float = 12.0, pillars: int = 2, boxes=None) -> np.ndarray:
+    """Wall segments ``(S, 2, 2)`` of a rectangular room ``[0, width] × [0, depth]`` with square
+    pillars (0.6 m) along its middle and, optionally, ``boxes`` (cupboards, crates): rectangles
+    ``(x0, y0, x1, y1)`` [m]. Without boxes the room looks the same turned by 180° about its centre."""
     w, d = as_positive("width_m", width_m), as_positive("depth_m", depth_m)
     if isinstance(pillars, bool) or not isinstance(pillars, (int, np.integer)) or pillars < 0:
         raise ValueError(f"pillars: expected an int >= 0, got {pillars!r}")
+    rects = np.zeros((0, 4)) if boxes is None else as_finite_array("boxes", boxes, ndim=2)
+    if rects.shape[1] != 4 or np.any(rects[:, 2:] <= rects[:, :2]):
+        raise ValueError(f"boxes: expected rectangles (x0, y0, x1, y1) with x1 > x0 and y1 > y0, got {boxes!r}")
     walls = [_box(0.0, 0.0, w, d)]
     for i in range(int(pillars)):
         cx = w * (i + 1) / (pillars + 1)
         walls.append(_box(cx - 0.3, d / 2 - 0.3, cx + 0.3, d / 2 + 0.3))
+    walls += [_box(*r) for r in rects]
     return np.concatenate(walls)
 
 
