@@ -3,6 +3,7 @@ particle filter that localises against the map from an ambiguous start."""
 
 from .icp import IcpResult, best_rigid_transform, estimate_normals, icp, point_to_plane_step
 from .lidar import LidarScan, cast_rays, corridor_map, lidar_scan, room_map
+from .map_matching import MapMatch, scan_to_map, track_scans, wall_points
 from .particles import (
                         RESAMPLING_SCHEMES,
                         LocalisationRun,
@@ -16,7 +17,8 @@ from .particles import (
 )
 from .scenario import LocalisationScenario, corner_start, hypothesis_particles
 
-__all__ = ["RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario",
+__all__ = ["RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario", "MapMatch",
            "best_rigid_transform", "cast_rays", "corner_start", "corridor_map", "effective_sample_size",
            "estimate_normals", "hypothesis_particles", "icp", "lidar_scan", "localise", "odometry_step",
-           "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood"]
+           "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood",
+           "scan_to_map", "track_scans", "wall_points"]

@@ -14,9 +14,13 @@ ways:
   per pair, ``[(pᵢ × nᵢ)ᵀ, nᵢᵀ] [δθ; t] = (qᵢ − pᵢ)·nᵢ``, solved by least squares (in 2D the rotation
   is one angle and ``pᵢ × nᵢ`` its z component). The step is applied as an exact rotation.
 
-The result carries a covariance of the transform, ``σ² (JᵀJ)⁻¹`` with ``J`` the residuals' Jacobian
-in (rotation, translation) at the solution and ``σ²`` their mean square: a corridor, whose walls
-say nothing about the position along it, shows up as a huge variance in that direction.
+The result carries the information of the transform, ``JᵀJ / σ²``, with ``J`` the residuals'
+Jacobian at the solution and ``σ²`` their mean square, and its covariance, the (pseudo-)inverse.
+Both are over (rotation, translation), the rotation taken about the source's origin (for a scan,
+the sensor) so that the translation's block is the uncertainty of where the sensor is: for a
+residual ``R pᵢ + t − qᵢ`` a small turn ``δθ`` moves the matched point by ``δθ × (R pᵢ)``, not by
+``δθ × (R pᵢ + t)``. A corridor, whose walls say nothing about the position along it, shows up as
+no information (a zero eigenvalue, a huge or undefined variance) in that direction.
 """
 
 from __future__ import annotations
@@ -36,13 +40,15 @@ __all__ = ["IcpResult", "best_rigid_transform", "estimate_normals", "icp", "poin
 class IcpResult:
     """What :func:`icp` found: ``R`` (d, d) and ``t`` (d,) with ``target ≈ R source + t``; the number
     of ``iterations``; whether it ``converged``; the ``rmse`` of the kept pairs [m]; the ``covariance``
-    of (rotation, translation) — (1 + 2) in 2D, (3 + 3) in 3D."""
+    of (rotation about the source's origin, translation) — (1 + 2) in 2D, (3 + 3) in 3D — and its
+    ``information``, whose zero eigenvalues mark directions the scans cannot fix (module documentation)."""
 
     R: np.ndarray
     t: np.ndarray
     iterations: int
     converged: bool
     rmse: float
+    information: np.ndarray
     covariance: np.ndarray
 
 
@@ -109,22 +115,24 @@ def estimate_normals(points, neighbours: int = 8) -> np.ndarray:
     return vectors[:, :, 0]
 
 
-def _covariance(p_moved, q, normals, residuals) -> np.ndarray:
-    d = p_moved.shape[1]
+def _information(lever, normals, residuals) -> np.ndarray:
+    """``JᵀJ / σ²`` over (rotation, translation); ``lever`` (N, d) = ``R pᵢ``, the matched points
+    relative to the source's origin; ``σ²`` at least (1 µm)² (noise-free data)."""
+    d = lever.shape[1]
     if normals is None:  # point to point: residual R p + t − q, Jacobian [−[Rp]×, I] (3D) or [perp(Rp), I] (2D)
         if d == 2:
-            J = np.zeros((2 * len(p_moved), 3))
-            J[0::2, 0], J[1::2, 0] = -p_moved[:, 1], p_moved[:, 0]
+            J = np.zeros((2 * len(lever), 3))
+            J[0::2, 0], J[1::2, 0] = -lever[:, 1], lever[:, 0]
             J[0::2, 1], J[1::2, 2] = 1.0, 1.0
         else:
-            J = np.zeros((3 * len(p_moved), 6))
-            for i, pm in enumerate(p_moved):
+            J = np.zeros((3 * len(lever), 6))
+            for i, pm in enumerate(lever):
                 J[3 * i:3 * i + 3, :3] = -kernels.skew(pm)
                 J[3 * i:3 * i + 3, 3:] = np.eye(3)
     else:
-        J = np.hstack([_cross_n(p_moved, normals), normals])
-    sigma2 = float(np.mean(residuals**2))
-    return sigma2 * np.linalg.pinv(J.T @ J)
+        J = np.hstack([_cross_n(lever, normals), normals])
+    sigma2 = max(float(np.mean(residuals**2)), 1e-12)
+    return J.T @ J / sigma2
 
 
 def icp(source, target, *, method: str = "point", initial=None, max_iterations: int = 50, tolerance: float = 1e-10,
@@ -194,11 +202,12 @@ def icp(source, target, *, method: str = "point", initial=None, max_iterations: 
     moved = src @ R.T + t
     dist, idx = tree.query(moved)
     keep = np.argsort(dist, kind="stable")[:keep_n]
+    lever = moved[keep] - t
     if normals is None:
-        residuals = (moved[keep] - tgt[idx[keep]]).ravel()
-        cov = _covariance(moved[keep], tgt[idx[keep]], None, residuals)
+        info = _information(lever, None, (moved[keep] - tgt[idx[keep]]).ravel())
     else:
-        residuals = np.einsum("ij,ij->i", moved[keep] - tgt[idx[keep]], normals[idx[keep]])
-        cov = _covariance(moved[keep], tgt[idx[keep]], normals[idx[keep]], residuals)
+        matched_normals = normals[idx[keep]]
+        info = _information(lever, matched_normals, np.einsum("ij,ij->i", moved[keep] - tgt[idx[keep]],
+                                                              matched_normals))
     return IcpResult(R=R, t=t, iterations=iterations, converged=converged,
-                     rmse=float(np.sqrt(np.mean(dist[keep] ** 2))), covariance=cov)
+                     rmse=float(np.sqrt(np.mean(dist[keep] ** 2))), information=info, covariance=np.linalg.pinv(info))
