@@ -155,6 +155,12 @@ from quadlib.nav import (
     ins_gps_sensor,
     ins_initial_state,
     ins_model,
+    ins_pose_sensor,
+    match_poses,
+    navigate,
+    pose_measurements,
+    sim_params,
+    simulate_denied_flight,
     velocity_change_mismatch,
 )
 from quadlib.perception import (
@@ -174,6 +180,9 @@ from quadlib.perception import (
     resample,
     room_map,
     scan_log_likelihood,
+    scan_to_map,
+    track_scans,
+    wall_points,
 )
 from quadlib.quad import (
     Flight3D,
@@ -203,6 +212,7 @@ from quadlib.quad import (
     simple_pipeline,
     simulate_run3d,
     square_course,
+    straight_course,
     tilted_range_sensor,
 )
 from quadlib.samples import Measurements
@@ -241,6 +251,7 @@ from quadlib.teaching import (
 
 NAN, INF = float("nan"), float("inf")
 WRONG_TYPE = st.sampled_from(["text", None, object(), {"a": 1}])
+WRONG_OPTIONAL = st.sampled_from(["text", object(), {"a": 1}])  # for arguments where None is the default
 
 BAD = {
     "positive": st.one_of(st.floats(max_value=0.0, allow_nan=False), st.sampled_from([NAN, INF, -INF, "1.0"])),
@@ -263,6 +274,9 @@ BAD = {
     "imu stream": st.sampled_from([np.zeros((99, 3)), np.zeros((100, 2)), np.full((100, 3), INF), "g", None]),
 }
 POS, FIN, PROB, COUNT = BAD["positive"], BAD["finite"], BAD["probability"], BAD["count"]
+ROOM_POINTS = wall_points(room_map(), 0.5)
+DENIED = simulate_denied_flight(straight_course(3.0, 1.0, rate_hz=100.0), corridor_map(10.0, 3.0) - [2.0, 1.5],
+                                np.random.default_rng(0))
 WEIGHTS = st.sampled_from([[-1.0, 2.0], [], [NAN, 1.0], [0.0, 0.0], "w", None])
 POSES = st.sampled_from([np.zeros((3, 2)), np.zeros((0, 3)), [[NAN, 0.0, 0.0]], "p", None])
 NONNEG = st.sampled_from([-1.0, NAN, INF, "1"])
@@ -560,6 +574,30 @@ PROBES = [
            "dropout": st.sampled_from([1.0, -0.1, NAN, "0.1", True])}),
     Probe(room_map, lambda: {}, {"width_m": POS, "depth_m": POS, "pillars": st.sampled_from([-1, 1.5, True, "2"]),
                                  "boxes": st.sampled_from([[1.0, 2.0], [[1, 1, 0.5, 2]], [[0, 0, 1, NAN]], "b"])}),
+    Probe(ins_pose_sensor, lambda: {}, {"reset_after_s": st.sampled_from([0.0, -1.0, NAN, "1"])}),
+    Probe(pose_measurements, lambda: dict(t=[0.0], matches=[None]),
+          {"t": st.sampled_from([[NAN], "t", [[0.0]]]), "matches": st.sampled_from([[None, None], [np.zeros(3)], 3]),
+           "sensor": WRONG_OPTIONAL}),
+    Probe(match_poses, lambda: dict(matches=[None]), {"matches": st.sampled_from([[np.zeros(3)], [1.0]])}),
+    Probe(sim_params, lambda: dict(noise=SensorNoise3D()), {"noise": WRONG_TYPE}),
+    Probe(navigate, lambda: dict(run=DENIED, aid="scans"),
+          {"run": WRONG_TYPE, "aid": st.sampled_from(["lidar", None, 1]), "params": WRONG_OPTIONAL,
+           "decimate": st.sampled_from([0, 1.5, True, 10**6]), "gate_probability": PROB}),
+    Probe(simulate_denied_flight, lambda: dict(flight=DENIED.flight, walls=DENIED.walls, rng=np.random.default_rng(0)),
+          {"flight": WRONG_TYPE, "walls": st.sampled_from([np.zeros((3, 2)), "w", [[[NAN, 0], [0, 0]]]]),
+           "rng": BAD["rng"], "noise": WRONG_OPTIONAL, "lidar_rate_hz": st.sampled_from([0.0, -1.0, NAN, 1e6, "10"]),
+           "beams": COUNT, "max_range_m": POS, "range_sigma_m": NONNEG, "dropout": st.sampled_from([1.0, -0.1, "0"])}),
+    Probe(wall_points, lambda: dict(segments=room_map()),
+          {"segments": st.sampled_from([np.zeros((3, 2)), np.full((1, 2, 2), NAN), "m"]), "spacing_m": POS}),
+    Probe(scan_to_map, lambda: dict(points=ROOM_POINTS[0][::7], map_points=ROOM_POINTS[0], map_normals=ROOM_POINTS[1],
+                                    initial_pose=[1.0, 1.0, 0.0]),
+          {"points": st.sampled_from([np.zeros((1, 2)), "p"]), "map_points": st.sampled_from([np.zeros((5, 3)), "m"]),
+           "map_normals": st.sampled_from([np.zeros((4, 2)), "n"]), "initial_pose": BAD["vector3"],
+           "trim": st.sampled_from([1.0, -0.1, NAN]), "max_iterations": COUNT}),
+    Probe(track_scans, lambda: dict(scans=[ROOM_POINTS[0][::7]], map_points=ROOM_POINTS[0],
+                                    map_normals=ROOM_POINTS[1], initial_pose=[1.0, 1.0, 0.0]),
+          {"scans": st.sampled_from([[np.zeros((20, 3))], [[[NAN, 0.0]] * 20]]), "initial_pose": BAD["vector3"],
+           "trim": st.sampled_from([1.0, -0.1, NAN]), "min_points": st.sampled_from([2, 3.5, True])}),
     Probe(effective_sample_size, lambda: dict(weights=[0.5, 0.5]), {"weights": WEIGHTS}),
     Probe(resample, lambda: dict(weights=[0.5, 0.5], rng=np.random.default_rng(0)),
           {"weights": WEIGHTS, "rng": BAD["rng"], "scheme": st.sampled_from(["best", None, 1])}),
@@ -844,6 +882,8 @@ PROBES += [
           {"x0": st.sampled_from([np.zeros(6), np.full(7, NAN), "x"]), "dt": POS, "tuning": WRONG_TYPE}),
     Probe(figure_eight, lambda: dict(duration_s=1.0, rate_hz=50.0),
           {"width_m": POS, "period_s": POS, "altitude_m": FIN, "duration_s": POS, "rate_hz": POS}),
+    Probe(straight_course, lambda: dict(rate_hz=50.0),
+          {"length_m": POS, "duration_s": POS, "altitude_m": POS, "rate_hz": POS}),
     Probe(square_course, lambda: dict(rate_hz=50.0),
           {"side_m": POS, "altitude_m": FIN, "leg_s": POS, "turn_s": POS, "rate_hz": POS}),
     Probe(flight_from_path, lambda: dict(t=[0.0, 0.1], pos=np.zeros((2, 3)), vel=np.zeros((2, 3)), acc=np.zeros((2, 3)),
@@ -942,7 +982,7 @@ NOT_PROBED = {
     "ClosedLoopRun": RESULT, "PathRun": RESULT, "PlanarRun": RESULT, "IcpResult": RESULT, "LidarScan": RESULT,
     "thrust_attitude": "an unchecked inner step of PositionController",
     "cast_rays": "the unchecked ray-casting kernel of lidar_scan and scan_log_likelihood (both probed)",
-    "LocalisationRun": RESULT, "LocalisationScenario": RESULT,
+    "LocalisationRun": RESULT, "LocalisationScenario": RESULT, "MapMatch": RESULT, "DeniedFlight": RESULT,
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,

@@ -62,6 +62,10 @@ def scan_to_map(points, map_points, map_normals, initial_pose, *, trim: float = 
     (M, 2) (:func:`wall_points`), starting at ``initial_pose`` ``(x, y, yaw)``; ``trim`` drops that
     share of the worst pairs (a person, a door the map lacks)."""
     x, y, yaw = as_vector("initial_pose", initial_pose, 3)
+    points = _planar("points", points)
+    map_points, map_normals = _planar("map_points", map_points), _planar("map_normals", map_normals)
+    if map_normals.shape != map_points.shape:
+        raise ValueError(f"map_normals: expected one per map point, shape {map_points.shape}, got {map_normals.shape}")
     if trim != 0.0:
         trim = as_probability("trim", trim)
     c, s = np.cos(yaw), np.sin(yaw)
@@ -85,6 +89,8 @@ def track_scans(scans, map_points, map_normals, initial_pose, *, trim: float = 0
     out, previous, last = [], None, pose
     for j, pts in enumerate(scans):
         pts = as_finite_array(f"scans[{j}]", pts, ndim=2)
+        if pts.shape[1] != 2:
+            raise ValueError(f"scans[{j}]: expected points (x, y) of shape (n, 2), got {pts.shape}")
         if pts.shape[0] < min_points:
             out.append(None)
             previous = None
@@ -94,6 +100,13 @@ def track_scans(scans, map_points, map_normals, initial_pose, *, trim: float = 0
         out.append(match)
         previous, last = last, match.pose
     return out
+
+
+def _planar(name: str, value) -> np.ndarray:
+    pts = as_finite_array(name, value, ndim=2)
+    if pts.shape[1] != 2 or pts.shape[0] < 3:
+        raise ValueError(f"{name}: expected at least 3 points (x, y), shape (n, 2), got {pts.shape}")
+    return pts
 
 
 def _pose_difference(a, b):

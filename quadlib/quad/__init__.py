@@ -11,6 +11,7 @@ from .flight import (
     mag_field_samples,
     mag_yaw_samples,
     square_course,
+    straight_course,
 )
 from .height import height_model, range_sensor
 from .pipeline import simple_pipeline
@@ -57,5 +58,6 @@ __all__ = [
     "simple_pipeline",
     "simulate_run3d",
     "square_course",
+    "straight_course",
     "tilted_range_sensor",
 ]

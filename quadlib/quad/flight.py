@@ -115,6 +115,20 @@ def square_course(side_m: float = 10.0, altitude_m: float = 3.0, leg_s: float = 
     return flight_from_path(t, pos, vel, acc, yaw)
 
 
+def straight_course(length_m: float = 30.0, duration_s: float = 30.0, altitude_m: float = 3.0,
+                    rate_hz: float = 500.0) -> Flight3D:
+    """Rest to rest ``length_m`` north in ``duration_s`` (one minimum-jerk move), nose north: the
+    flight down a corridor."""
+    length, duration = as_positive("length_m", length_m), as_positive("duration_s", duration_s)
+    alt, rate = as_positive("altitude_m", altitude_m), as_positive("rate_hz", rate_hz)
+    t = _time_grid(duration, rate)
+    s0, s1, s2 = min_jerk(t / duration)
+    pos, vel, acc = np.zeros((t.size, 3)), np.zeros((t.size, 3)), np.zeros((t.size, 3))
+    pos[:, 0], vel[:, 0], acc[:, 0] = length * s0, length * s1 / duration, length * s2 / duration**2
+    pos[:, 2] = -alt
+    return flight_from_path(t, pos, vel, acc, np.zeros(t.size))
+
+
 def figure_eight(width_m: float = 20.0, period_s: float = 20.0, altitude_m: float = 3.0, duration_s: float = 20.0,
                  rate_hz: float = 500.0) -> Flight3D:
     """A horizontal figure eight ``x = (w/2) sin ωt, y = (w/4) sin 2ωt``, nose along the velocity."""
