@@ -16,8 +16,25 @@ from .particles import (
                         scan_log_likelihood,
 )
 from .scenario import LocalisationScenario, corner_start, hypothesis_particles
+from .vo import (
+                        CAMERA_IN_BODY,
+                        Camera,
+                        VoRun,
+                        decompose_essential,
+                        essential_eight_point,
+                        essential_ransac,
+                        observe,
+                        project,
+                        recover_pose,
+                        relative_scale,
+                        textured_room,
+                        triangulate,
+                        visual_odometry,
+)
 
-__all__ = ["RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario", "MapMatch",
+__all__ = ["CAMERA_IN_BODY", "Camera", "VoRun", "decompose_essential", "essential_eight_point", "essential_ransac",
+           "observe", "project", "recover_pose", "relative_scale", "textured_room", "triangulate", "visual_odometry",
+           "RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario", "MapMatch",
            "best_rigid_transform", "cast_rays", "corner_start", "corridor_map", "effective_sample_size",
            "estimate_normals", "hypothesis_particles", "icp", "lidar_scan", "localise", "odometry_step",
            "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood",
