@@ -9,6 +9,7 @@ import pytest
 from quadlib.analysis import broad_errors
 from quadlib.analysis.orientation_table import estimator_names, orientation_estimate
 from quadlib.data import broad_trial_names, load_broad_trial
+from quadlib.perception import corner_trials
 
 RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "broad_orientation.csv"
 
@@ -30,3 +31,17 @@ def test_the_fast_rows_are_reproduced(trial):
         errors = broad_errors(orientation_estimate(name, data.log), data.q_nb, data.movement)
         for column, value in errors.items():
             assert float(table[trial, name][column]) == pytest.approx(value, abs=1e-3), (name, column)
+
+
+PARTICLES = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "particle_filter.csv"
+
+
+def test_the_particle_filter_table_is_reproduced_for_its_cheapest_row():
+    """Chapter 17 shows benchmarks/results/particle_filter.csv; its first row (50 particles) is
+    recomputed here: the share of runs that found the pose and their median error."""
+    with PARTICLES.open(newline="") as f:
+        row = next(csv.DictReader(f))
+    share, error, _ = corner_trials(int(row["particles"]), int(row["runs"]), scheme=row["scheme"],
+                                    sigma_m=float(row["sigma_m"]))
+    assert share == pytest.approx(float(row["found"]), abs=1e-9)
+    assert error == pytest.approx(float(row["median_error_m"]), abs=1e-3)

@@ -1,7 +1,7 @@
 """Perception for navigation without GPS: a 2D lidar in a map of walls, scan matching (ICP), and a
 particle filter that localises against the map from an ambiguous start."""
 
-from .icp import IcpResult, best_rigid_transform, estimate_normals, icp, point_to_plane_step
+from .icp import IcpResult, best_rigid_transform, convergence_basin, estimate_normals, icp, point_to_plane_step
 from .lidar import LidarScan, cast_rays, corridor_map, lidar_scan, room_map
 from .map_matching import MapMatch, scan_to_map, track_scans, wall_points
 from .particles import (
@@ -15,7 +15,7 @@ from .particles import (
                         resample,
                         scan_log_likelihood,
 )
-from .scenario import LocalisationScenario, corner_start, hypothesis_particles
+from .scenario import LocalisationScenario, corner_start, corner_trials, hypothesis_particles
 from .vo import (
                         CAMERA_IN_BODY,
                         Camera,
@@ -35,7 +35,8 @@ from .vo import (
 __all__ = ["CAMERA_IN_BODY", "Camera", "VoRun", "decompose_essential", "essential_eight_point", "essential_ransac",
            "observe", "project", "recover_pose", "relative_scale", "textured_room", "triangulate", "visual_odometry",
            "RESAMPLING_SCHEMES", "IcpResult", "LidarScan", "LocalisationRun", "LocalisationScenario", "MapMatch",
-           "best_rigid_transform", "cast_rays", "corner_start", "corridor_map", "effective_sample_size",
+           "best_rigid_transform", "cast_rays", "convergence_basin", "corner_start", "corner_trials", "corridor_map",
+           "effective_sample_size",
            "estimate_normals", "hypothesis_particles", "icp", "lidar_scan", "localise", "odometry_step",
            "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood",
            "scan_to_map", "track_scans", "wall_points"]

@@ -33,7 +33,7 @@ from scipy.spatial import cKDTree
 from quadlib.geometry import kernels
 from quadlib.validation import as_finite_array, as_positive, as_probability
 
-__all__ = ["IcpResult", "best_rigid_transform", "estimate_normals", "icp", "point_to_plane_step"]
+__all__ = ["IcpResult", "best_rigid_transform", "convergence_basin", "estimate_normals", "icp", "point_to_plane_step"]
 
 
 @dataclass(frozen=True)
@@ -211,3 +211,34 @@ def icp(source, target, *, method: str = "point", initial=None, max_iterations: 
                                                               matched_normals))
     return IcpResult(R=R, t=t, iterations=iterations, converged=converged,
                      rmse=float(np.sqrt(np.mean(dist[keep] ** 2))), information=info, covariance=np.linalg.pinv(info))
+
+
+def convergence_basin(scans, rotations_rad, shifts_m, method: str, *, angle_tol_rad: float = 0.0087,
+                      shift_tol_m: float = 0.05, max_iterations: int = 100) -> tuple[np.ndarray, np.ndarray]:
+    """How far from the truth ICP may start and still find it, in 2D. ``scans`` is a list of pairs
+    ``(source, target)`` of the same scene from the same pose; each source starts turned by each of
+    ``rotations_rad`` and shifted by each of ``shifts_m`` (in a direction that changes from pair to
+    pair). Returns the share of pairs that end within ``angle_tol_rad`` (0.5°) and ``shift_tol_m``
+    of the identity, and their median iteration count, both (rotations, shifts)."""
+    rotations = as_finite_array("rotations_rad", rotations_rad, ndim=1)
+    shifts = as_finite_array("shifts_m", shifts_m, ndim=1)
+    pairs = list(scans)
+    if not pairs:
+        raise ValueError("scans: expected at least one (source, target) pair, got none")
+    for k, pair in enumerate(pairs):
+        shapes = [np.shape(a) for a in pair] if isinstance(pair, (tuple, list)) else None
+        if shapes is None or len(shapes) != 2 or any(len(sh) != 2 or sh[0] < 3 or sh[1] != 2 for sh in shapes):
+            raise ValueError(f"scans[{k}]: expected a pair (source, target) of 2D scans of at least 3 points, shapes "
+                             f"(n, 2), got {shapes if shapes is not None else type(pair).__name__}")
+    found, iterations = np.zeros((rotations.size, shifts.size)), np.zeros((rotations.size, shifts.size))
+    for i, a in enumerate(rotations):
+        R0 = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+        for j, shift in enumerate(shifts):
+            ok, its = 0, []
+            for k, (source, target) in enumerate(pairs):
+                t0 = shift * np.array([np.cos(k), np.sin(k)])
+                r = icp(source, target, method=method, initial=(R0, t0), max_iterations=max_iterations)
+                ok += abs(np.arctan2(r.R[1, 0], r.R[0, 0])) < angle_tol_rad and np.linalg.norm(r.t) < shift_tol_m
+                its.append(r.iterations)
+            found[i, j], iterations[i, j] = ok / len(pairs), np.median(its)
+    return found, iterations

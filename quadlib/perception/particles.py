@@ -162,7 +162,8 @@ def pose_error(estimate, truth) -> np.ndarray:
 class LocalisationRun:
     """What :func:`localise` did at each scan: the mean ``pose`` (K, 3), the ``spread`` (K,) [m]
     (weighted RMS distance of the particles from it), the effective sample size ``ess`` (K,) after
-    the update, whether it ``resampled`` (K,), and the final ``particles`` (N, 3) and ``weights``."""
+    the update, whether it ``resampled`` (K,), the final ``particles`` (N, 3) and ``weights``, and
+    ``snapshots``: step → (particles, weights) after that step's update, for the steps asked for."""
 
     pose: np.ndarray
     spread: np.ndarray
@@ -170,14 +171,16 @@ class LocalisationRun:
     resampled: np.ndarray
     particles: np.ndarray
     weights: np.ndarray
+    snapshots: dict
 
 
 def localise(particles, odometry, scans, bearings, segments, dt: float, rng, *, odometry_sigma=(0.05, 0.02),
              max_range_m: float, sigma_m: float = 0.5, outlier: float = 0.05, scheme: str = "systematic",
-             resample_below: float = 0.5) -> LocalisationRun:
+             resample_below: float = 0.5, snapshots=()) -> LocalisationRun:
     """Run the particle filter from ``particles`` (N, 3) (the initial belief, equal weights) over
     ``K`` steps: ``odometry`` (K, 2) ``(v, ω)`` moves them, then ``scans`` (K, B) of ranges along
-    ``bearings`` (B,) weigh them; resample by ``scheme`` when ``N_eff < resample_below · N``."""
+    ``bearings`` (B,) weigh them; resample by ``scheme`` when ``N_eff < resample_below · N``. The
+    particles after the steps listed in ``snapshots`` are kept (for plots)."""
     p = _poses("particles", particles).copy()
     odo = as_finite_array("odometry", odometry, ndim=2)
     if odo.shape[1] != 2:
@@ -195,6 +198,11 @@ def localise(particles, odometry, scans, bearings, segments, dt: float, rng, *, 
         raise ValueError(f"scheme: expected one of {RESAMPLING_SCHEMES}, got {scheme!r}")
     rng = as_rng(rng)
     n, k = p.shape[0], odo.shape[0]
+    keep = {int(j) for j in snapshots} if all(isinstance(j, (int, np.integer)) and not isinstance(j, bool)
+                                              and 0 <= j < k for j in snapshots) else None
+    if keep is None:
+        raise ValueError(f"snapshots: expected step indices in [0, {k - 1}], got {snapshots!r}")
+    kept = {}
     log_w = np.full(n, -np.log(n))
     pose, spread, ess, resampled = np.zeros((k, 3)), np.zeros(k), np.zeros(k), np.zeros(k, dtype=bool)
     for j in range(k):
@@ -206,9 +214,11 @@ def localise(particles, odometry, scans, bearings, segments, dt: float, rng, *, 
         pose[j] = particle_pose(p, w)
         spread[j] = np.sqrt(w @ np.sum((p[:, :2] - pose[j, :2]) ** 2, axis=1))
         ess[j] = 1.0 / np.sum(w * w)
+        if j in keep:
+            kept[j] = (p.copy(), w.copy())
         if ess[j] < resample_below * n:
             p, log_w, resampled[j] = p[resample(w, rng, scheme)], np.full(n, -np.log(n)), True
         else:
             log_w = np.log(w)
     return LocalisationRun(pose=pose, spread=spread, ess=ess, resampled=resampled, particles=p,
-                           weights=np.exp(log_w - log_w.max()) / np.exp(log_w - log_w.max()).sum())
+                           weights=np.exp(log_w - log_w.max()) / np.exp(log_w - log_w.max()).sum(), snapshots=kept)

@@ -137,7 +137,8 @@ def observe(landmarks, R_nc, p_n, camera: Camera, rng, *, pixel_sigma: float = 0
     """Pixels (K, N, 2) of ``landmarks`` (N, 3) in ``K`` frames taken from orientations ``R_nc``
     (K, 3, 3) and positions ``p_n`` (K, 3) (:func:`project`; NaN where not seen); a share
     ``mismatch`` of the seen ones is matched wrongly (moved to a random pixel), as a feature
-    matcher sometimes does."""
+    matcher sometimes does — in each frame, so a pair of frames shares about ``(1 − mismatch)²``
+    good matches."""
     R = as_finite_array("R_nc", R_nc, ndim=3)
     p = as_finite_array("p_n", p_n, ndim=2)
     if R.shape[1:] != (3, 3) or p.shape != (R.shape[0], 3):
@@ -170,21 +171,41 @@ def _sampson(E, x1, x2):
     return num / (Ex1[:, 0] ** 2 + Ex1[:, 1] ** 2 + Etx2[:, 0] ** 2 + Etx2[:, 1] ** 2)
 
 
-def essential_ransac(x1, x2, rng, *, threshold: float = 1e-3, iterations: int = 200) -> tuple[np.ndarray, np.ndarray]:
+def essential_ransac(x1, x2, rng, *, threshold: float = 1e-3, iterations: int = 500,
+                     confidence: float = 0.999) -> tuple[np.ndarray, np.ndarray]:
     """``E`` and the inlier mask (N,) by RANSAC over minimal sets of eight, ``threshold`` on the
-    Sampson distance in normalised coordinates (about pixels / f), refitted to the inliers."""
+    Sampson distance in normalised coordinates (about pixels / f). Eight noisy points give a rough
+    ``E``, so each new best is refitted to all its inliers, again while that gains inliers (the
+    "locally optimised" RANSAC of Chum et al. 2003), and the final ``E`` to the last inliers. It
+    stops after ``iterations``, or once a minimal set free of outliers has been drawn with
+    probability ``confidence``, given the best inlier share ``w`` so far (``log(1 − confidence) /
+    log(1 − w⁸)`` draws), but not before 100: a clean set of eight noisy points can still give a
+    poor ``E``."""
     x1, x2 = _matched(x1, x2)
     threshold = as_positive("threshold", threshold)
     if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
         raise ValueError(f"iterations: expected an int >= 1, got {iterations!r}")
+    confidence = as_probability("confidence", confidence)
     rng = as_rng(rng)
-    best = np.zeros(len(x1), dtype=bool)
-    for _ in range(int(iterations)):
+    best, needed = np.zeros(len(x1), dtype=bool), int(iterations)
+    for i in range(int(iterations)):
+        if i >= needed:
+            break
         pick = rng.choice(len(x1), 8, replace=False)
-        E = essential_eight_point(x1[pick], x2[pick])
-        inliers = _sampson(E, x1, x2) < threshold**2
-        if inliers.sum() > best.sum():
+        d2 = _sampson(essential_eight_point(x1[pick], x2[pick]), x1, x2)
+        if np.sum(d2 < threshold**2) <= best.sum():
+            continue
+        for _ in range(10):  # a new best: refit to the pairs within a wider gate, then within the threshold
+            wide = d2 < (3.0 * threshold) ** 2
+            if wide.sum() < 8:
+                break
+            d2 = _sampson(essential_eight_point(x1[wide], x2[wide]), x1, x2)
+            inliers = d2 < threshold**2
+            if inliers.sum() <= best.sum():
+                break
             best = inliers
+            clean = min((best.sum() / len(x1)) ** 8, 1.0 - 1e-12)
+            needed = min(needed, max(100, int(np.ceil(np.log(1.0 - confidence) / np.log1p(-clean)))))
     if best.sum() < 8:
         raise ValueError(f"x1, x2: expected at least 8 pairs consistent with one motion, got {int(best.sum())} "
                          f"of {len(x1)} within threshold {threshold:g}")

@@ -92,3 +92,17 @@ def test_the_covariance_matches_the_scatter_of_noisy_matches():
     # normal (σ cos incidence), so the reported yaw σ is somewhat pessimistic
     assert spread[2] < reported[2] < 1.35 * spread[2]
     assert np.all(np.abs(np.mean(poses, axis=0) - truth) < 4 * spread / np.sqrt(200))  # unbiased
+
+
+def test_the_convergence_basin_counts_the_pairs_that_return():
+    from quadlib.perception import convergence_basin, lidar_scan, room_map
+
+    rng = np.random.default_rng(0)
+    pairs = [(lidar_scan([6.0, 4.0, 0.0], room_map(), rng).points, lidar_scan([6.0, 4.0, 0.0], room_map(), rng).points)
+             for _ in range(3)]
+    found, iterations = convergence_basin(pairs, np.radians([10.0, 180.0]), [0.2], "plane")
+    assert found.shape == iterations.shape == (2, 1)
+    assert found[0, 0] == 1.0 and found[1, 0] == 0.0  # turned around, the room looks the same: a wrong match
+    assert 1 <= iterations[0, 0] < iterations[1, 0] or iterations[1, 0] == 100
+    with pytest.raises(ValueError, match="scans: expected at least one"):
+        convergence_basin([], [0.1], [0.1], "plane")

@@ -150,3 +150,17 @@ def test_localise_rejects_mismatched_inputs():
         localise(p, sc.odometry, sc.ranges, sc.bearings, sc.walls, sc.dt, rng, max_range_m=4.0, scheme="best")
     with pytest.raises(ValueError, match="duration_s: expected a drive that stays in the room"):
         corner_start(rng, duration_s=60.0)
+
+
+def test_snapshots_keep_the_particles_after_the_steps_asked_for():
+    rng = np.random.default_rng(0)
+    sc = corner_start(rng, duration_s=2.0)
+    run = localise(hypothesis_particles(sc.hypotheses, 50, rng), sc.odometry, sc.ranges, sc.bearings, sc.walls,
+                   sc.dt, rng, max_range_m=4.0, snapshots=(0, 9))
+    assert set(run.snapshots) == {0, 9}
+    particles, weights = run.snapshots[9]
+    assert particles.shape == (50, 3) and weights.sum() == pytest.approx(1.0)
+    np.testing.assert_allclose(particle_pose(particles, weights), run.pose[9])
+    with pytest.raises(ValueError, match="snapshots: expected step indices"):
+        localise(hypothesis_particles(sc.hypotheses, 50, rng), sc.odometry, sc.ranges, sc.bearings, sc.walls,
+                 sc.dt, rng, max_range_m=4.0, snapshots=(10,))
