@@ -15,6 +15,7 @@ from .particles import (
                         resample,
                         scan_log_likelihood,
 )
+from .range_ekf import scan_range_sensor, unicycle_model
 from .scenario import LocalisationScenario, corner_start, corner_trials, hypothesis_particles
 from .vo import (
                         CAMERA_IN_BODY,
@@ -39,4 +40,4 @@ __all__ = ["CAMERA_IN_BODY", "Camera", "VoRun", "decompose_essential", "essentia
            "effective_sample_size",
            "estimate_normals", "hypothesis_particles", "icp", "lidar_scan", "localise", "odometry_step",
            "particle_pose", "point_to_plane_step", "pose_error", "resample", "room_map", "scan_log_likelihood",
-           "scan_to_map", "track_scans", "wall_points"]
+           "scan_range_sensor", "scan_to_map", "track_scans", "unicycle_model", "wall_points"]

@@ -21,7 +21,8 @@ constraint ``x₂ᵀ E x₁ = 0`` with the essential matrix ``E = [t]× R``.
   from (k, k+1) must be the same: their ratio carries the scale from one step to the next. Only the
   first step's length must come from elsewhere (the IMU, a barometer, a known object).
 * **Concatenation** — ``(R, t)`` map points from camera k−1 to camera k; the camera itself moves by
-  the inverse, so its pose in the world is ``C_k = C_{k−1} [Rᵀ, −Rᵀ t s]`` (erratum E37).
+  the inverse, so its pose in the world is ``C_k = C_{k−1} [Rᵀ, −Rᵀ t s]``: the blog's
+  ``C_k = C_{k−1} T_k`` with ``T_k`` that inverse (the errata appendix's table of what was checked).
 
 numpy's SVD is all it needs (no OpenCV): the eight-point solver is a dozen lines, and a student
 can read every one of them; OpenCV's five-point solver is faster and more robust, and would add a

@@ -164,3 +164,35 @@ def test_snapshots_keep_the_particles_after_the_steps_asked_for():
     with pytest.raises(ValueError, match="snapshots: expected step indices"):
         localise(hypothesis_particles(sc.hypotheses, 50, rng), sc.odometry, sc.ranges, sc.bearings, sc.walls,
                  sc.dt, rng, max_range_m=4.0, snapshots=(10,))
+
+
+def test_the_unicycle_jacobian_and_the_range_jacobian_match_finite_differences():
+    from quadlib.perception import scan_range_sensor, unicycle_model
+
+    model = unicycle_model((0.05, 0.02))
+    x, u, dt, eps = np.array([3.0, 2.0, 0.7]), np.array([0.8, 0.3]), 0.2, 1e-6
+    fd = np.column_stack([(model.g(x + e, u, dt) - model.g(x - e, u, dt)) / (2 * eps) for e in np.eye(3) * eps])
+    np.testing.assert_allclose(model.G(x, u, dt), fd, atol=1e-8)
+    walls = room_map(20.0, 12.0, pillars=0)
+    sensor = scan_range_sensor([0.0, np.pi / 2], walls, max_range_m=30.0, sigma_m=0.1)
+    pose = np.array([5.0, 4.0, 0.0])  # beam 0 meets the east wall x = 20, beam 1 the north wall y = 12
+    np.testing.assert_allclose(sensor.h(pose), [15.0, 8.0], atol=1e-12)
+    np.testing.assert_allclose(sensor.H(pose)[:, :2], [[-1.0, 0.0], [0.0, -1.0]], atol=1e-6)
+    turned = np.array([5.0, 4.0, 0.1])  # beam 0 at 0.1 rad: r = 15 / cos(0.1), dr/dψ = 15 sin / cos²
+    assert sensor.H(turned)[0, 2] == pytest.approx(15 * np.sin(0.1) / np.cos(0.1) ** 2, rel=1e-6)
+
+
+def test_an_ekf_finds_the_pose_only_from_the_right_corner():
+    from quadlib import Measurements, ModelEKF, run_filter
+    from quadlib.perception import scan_range_sensor, unicycle_model
+
+    sc = corner_start(np.random.default_rng(17))
+    t = np.arange(sc.truth.shape[0] + 1) * sc.dt
+    u = np.vstack([sc.odometry, [np.nan, np.nan]])
+    z = np.where(np.isnan(sc.ranges), sc.max_range_m, sc.ranges)
+    scans = Measurements(scan_range_sensor(sc.bearings, sc.walls, sc.max_range_m, 0.5), t[1:], z)
+    final = []
+    for start in sc.hypotheses:
+        ekf = ModelEKF(unicycle_model((0.05, 0.03)), start, np.diag([0.3, 0.3, 0.087]) ** 2, sc.dt)
+        final.append(pose_error(run_filter(ekf, t, u, [scans]).x[-1], sc.truth[-1])[0])
+    assert final[0] < 0.3 and min(final[1:]) > 5.0
