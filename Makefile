@@ -36,8 +36,10 @@ unit: $(STAMP)
 nbval: $(STAMP)
 	$(BIN)/python -m pytest notebooks $(NBVAL)
 
+# make lab ARGS="--allow-root --no-browser --port 8890": options for JupyterLab
+ARGS ?=
 lab: $(STAMP)
-	$(BIN)/jupyter lab notebooks
+	$(BIN)/jupyter lab notebooks $(ARGS)
 
 benchmark: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py
@@ -49,6 +51,9 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/fixedwing_divergence.py
 	$(BIN)/python benchmarks/faults.py
 	$(BIN)/python benchmarks/broad_orientation.py
+	$(BIN)/python benchmarks/montecarlo_batch.py
+	$(BIN)/python benchmarks/icp_basin.py
+	$(BIN)/python benchmarks/particle_filter.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py
