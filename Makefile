@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: book test unit nbval lab benchmark lint clean
+.PHONY: book student grade test unit nbval lab benchmark lint clean
 
 $(STAMP): environment.txt pyproject.toml
 	@command -v $(PYTHON) >/dev/null 2>&1 || { echo "error: $(PYTHON) not found; run 'make PYTHON=/path/to/python3.11 ...'" >&2; exit 1; }
@@ -22,6 +22,21 @@ book: $(STAMP)
 	cp notebooks/*.ipynb book/chapters/
 	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html book _build/html
 	@echo "Book built: $(CURDIR)/_build/html/index.html"
+
+# The student edition (solutions replaced by answer cells) and its book, from the stored outputs
+student: $(STAMP)
+	rm -rf book/chapters _build/student
+	mkdir -p book/chapters
+	$(BIN)/python scripts/student_edition.py _build/student/notebooks
+	cp _build/student/notebooks/*.ipynb book/chapters/
+	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html \
+		-D nb_execution_mode=off book _build/student/html
+	@echo "Student notebooks: $(CURDIR)/_build/student/notebooks; book: $(CURDIR)/_build/student/html/index.html"
+
+# make grade SUBMISSIONS=folder: run every submitted notebook, write folder/scores.csv
+grade: $(STAMP)
+	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade SUBMISSIONS=folder-of-notebooks" >&2; exit 1; }
+	$(BIN)/python scripts/grade.py $(SUBMISSIONS)
 
 NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
 

@@ -19,6 +19,7 @@ import importlib
 import inspect
 from dataclasses import dataclass, field
 
+import nbformat
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -251,10 +252,12 @@ from quadlib.teaching import (
     animation_html,
     batch_mean,
     belief_mean_std,
+    exercises,
     exponential_average,
     gaussian_belief,
     gaussian_kernel,
     gaussian_likelihood,
+    grade_notebook,
     half_average,
     plot_consistency,
     plot_estimate,
@@ -262,6 +265,7 @@ from quadlib.teaching import (
     quad2d_geometry,
     recursive_mean,
     show_source,
+    student_edition,
     uniform_grid,
 )
 
@@ -1032,6 +1036,9 @@ PROBES += [
     Probe(animation_html, lambda: dict(zip(("fig", "anim"), animate_quad2d([0.0, 0.1], np.zeros((2, 3)), 5.0,
                                                                              n_frames=2), strict=True), html_id="a"),
           {"anim": WRONG_TYPE, "html_id": st.sampled_from(["1a", "a-b", "", 3])}),
+    Probe(exercises, lambda: dict(nb=nbformat.v4.new_notebook()), {"nb": WRONG_TYPE}),
+    Probe(student_edition, lambda: dict(nb=nbformat.v4.new_notebook()), {"nb": WRONG_TYPE}),
+    Probe(grade_notebook, lambda: dict(path="/nonexistent/never.ipynb"), {"timeout_s": POS}),
     Probe(show_source, lambda: dict(obj=show_source), {"obj": st.sampled_from([1.0, "x", None, np.sin])}),
     Probe(vertical_sine, lambda: dict(duration_s=1.0, rng=np.random.default_rng(0)),
           {"duration_s": POS, "rng": BAD["rng"], "amplitude_m": FIN, "period_s": POS, "dt": POS,
@@ -1049,7 +1056,7 @@ NOT_PROBED = {
     "thrust_attitude": "an unchecked inner step of PositionController",
     "cast_rays": "the unchecked ray-casting kernel of lidar_scan and scan_log_likelihood (both probed)",
     "LocalisationRun": RESULT, "LocalisationScenario": RESULT, "MapMatch": RESULT, "DeniedFlight": RESULT,
-    "VoRun": RESULT,
+    "VoRun": RESULT, "Exercise": RESULT, "Grade": RESULT,
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,

@@ -1,41 +1,18 @@
-"""The chapters' graded exercises keep their shape: each hidden solution (a cell tagged
-``solution``) is followed by a check that first says "answer not set yet" for every answer the
-exercise asks for (a name in backticks in its statement that the solution defines), so a student
-edition with the solutions removed fails with that message rather than a NameError, and that then
-asserts something about the answer."""
+"""The chapters' graded exercises keep their shape (:mod:`quadlib.teaching.grading`): each hidden
+solution is followed by a check that first says "answer not set yet" for every answer the
+exercise asks for, so a student edition fails with that message rather than a NameError, and that
+then asserts something about the answer; the solution is collapsed in the book."""
 
-import ast
-import json
 import re
 from pathlib import Path
 
+import nbformat
 import pytest
 
+from quadlib.teaching.grading import exercises
+
 NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("[0-9][0-9]_*.ipynb"))
-
-
-def _exercises(path: Path):
-    cells = json.loads(path.read_text())["cells"]
-    for i, cell in enumerate(cells):
-        if "solution" not in cell.get("metadata", {}).get("tags", []):
-            continue
-        source = "".join(cell["source"])
-        defined = set()
-        for node in ast.parse(source).body:
-            if isinstance(node, ast.Assign):
-                for target in node.targets:
-                    defined |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
-            elif isinstance(node, ast.FunctionDef):
-                defined.add(node.name)
-        j = i - 1
-        while cells[j]["cell_type"] != "markdown":
-            j -= 1
-        statement = "".join(cells[j]["source"])
-        asked = [n for n in dict.fromkeys(re.findall(r"`([A-Za-z_]\w*)[`(]", statement)) if n in defined]
-        yield i, asked, "".join(cells[i + 1]["source"]), cells[i + 1]["cell_type"]
-
-
-CASES = [(p.name, i, asked, check, kind) for p in NOTEBOOKS for i, asked, check, kind in _exercises(p)]
+CASES = [(p.name, ex, nb) for p in NOTEBOOKS for nb in [nbformat.read(p, as_version=4)] for ex in exercises(nb)]
 
 
 def test_every_chapter_from_01_has_an_exercise():
@@ -43,12 +20,14 @@ def test_every_chapter_from_01_has_an_exercise():
     assert chapters <= {name for name, *_ in CASES}, sorted(chapters - {name for name, *_ in CASES})
 
 
-@pytest.mark.parametrize(("name", "cell", "asked", "check", "kind"), CASES, ids=[f"{c[0]}:{c[1]}" for c in CASES])
-def test_a_solution_is_followed_by_a_guarded_check(name, cell, asked, check, kind):
-    assert kind == "code", "the cell after a solution must be its check"
-    assert asked, "the statement names no answer (in backticks) that the solution defines"
-    for answer in asked:
-        guard = re.search(rf'assert "{answer}" in globals\(\), "answer not set yet: [^"]*{answer}', check)
+@pytest.mark.parametrize(("name", "ex", "nb"), CASES, ids=[f"{c[0]}:{c[1].answer}" for c in CASES])
+def test_a_solution_is_collapsed_and_followed_by_a_guarded_check(name, ex, nb):
+    assert "hide-input" in nb.cells[ex.answer].metadata.get("tags", []), "the book must collapse the solution"
+    check = nb.cells[ex.check]
+    assert check.cell_type == "code", "the cell after a solution must be its check"
+    assert ex.answers, "the statement names no answer (in backticks) that the solution defines"
+    for answer in ex.answers:
+        guard = re.search(rf'assert "{answer}" in globals\(\), "answer not set yet: [^"]*{answer}', check.source)
         assert guard, f"no 'answer not set yet' guard for {answer}"
-    body = re.sub(r'(?m)^.*answer not set yet.*$', "", check)
+    body = re.sub(r"(?m)^.*answer not set yet.*$", "", check.source)
     assert re.search(r"(?m)^\s*assert ", body), "the check asserts nothing about the answer"

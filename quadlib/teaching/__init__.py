@@ -1,20 +1,25 @@
-"""Helpers that exist only for a chapter's explanation: averaging, histograms, plots, animations."""
+"""Helpers that exist only for teaching: averaging, histograms, plots, animations, and the graded exercises."""
 
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
 from .display import show_source
+from .grading import Exercise, Grade, exercises, grade_notebook, student_edition
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import plot_consistency, plot_estimate, plot_innovations
 
 __all__ = [
+    "Exercise",
+    "Grade",
     "animate_quad2d",
     "animation_html",
     "batch_mean",
     "belief_mean_std",
+    "exercises",
     "exponential_average",
     "gaussian_belief",
     "gaussian_kernel",
     "gaussian_likelihood",
+    "grade_notebook",
     "half_average",
     "plot_consistency",
     "plot_estimate",
@@ -22,5 +27,6 @@ __all__ = [
     "quad2d_geometry",
     "recursive_mean",
     "show_source",
+    "student_edition",
     "uniform_grid",
 ]

@@ -1,0 +1,133 @@
+"""Graded exercises: the student edition of a chapter, and grading a submitted notebook.
+
+A chapter's exercise is three cells: its statement (markdown, naming each answer in backticks),
+the hidden solution (a code cell tagged ``solution``) and the check (the next code cell, which
+says "answer not set yet" for a missing answer and otherwise asserts that the answer is right,
+with a message that says what is wrong without giving the answer away).
+
+* :func:`student_edition` replaces each solution by an empty answer cell (tagged ``answer``) and
+  clears the outputs of the answer and check cells: the rest of the chapter keeps its outputs.
+* :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient; a failing cell
+  does not stop the run) and reads each check's outcome: passed, or the assertion's message as
+  feedback.
+
+The project grades with this small tool rather than otter-grader or nbgrader. Both would need
+every chapter rewritten into their own format (otter's ``# BEGIN QUESTION`` cells and separate
+test files, nbgrader's cell metadata and gradebook database), and otter grades in Docker
+containers by default; here the solution edition is the chapter itself, which nbval already
+checks cell by cell, and the tags it carries are all the grader needs.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from quadlib.validation import as_positive
+
+__all__ = ["ANSWER_TAG", "SOLUTION_TAG", "Exercise", "Grade", "exercises", "grade_notebook", "student_edition"]
+
+SOLUTION_TAG, ANSWER_TAG = "solution", "answer"
+_NAME = re.compile(r"`([A-Za-z_]\w*)[`(]")
+_PLACEHOLDER = re.compile(r"\b([A-Za-z_]\w*)\b(?=[^\n]* here\.)")
+
+
+def _defined(source: str) -> set[str]:
+    """The names a cell's top level assigns or defines."""
+    names = set()
+    for node in ast.parse(source).body:
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                names |= {n.id for n in ast.walk(target) if isinstance(n, ast.Name)}
+        elif isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+    return names
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One exercise of a notebook: the indices of its ``statement``, ``answer`` (solution or
+    student answer) and ``check`` cells, and the ``answers`` it asks for (names)."""
+
+    statement: int
+    answer: int
+    check: int
+    answers: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Grade:
+    """The outcome of one exercise in a submission: its number (1, 2, …), whether its check
+    ``passed``, and the check's ``feedback`` (the assertion's message, or the error)."""
+
+    number: int
+    passed: bool
+    feedback: str
+
+
+def _notebook(nb):
+    if not (hasattr(nb, "cells") and isinstance(nb.cells, list)):
+        raise TypeError(f"nb: expected a notebook (nbformat.NotebookNode), got {type(nb).__name__}")
+    return nb
+
+
+def exercises(nb) -> list[Exercise]:
+    """The exercises of notebook ``nb``, in order (module documentation)."""
+    cells = _notebook(nb).cells
+    out = []
+    for i, cell in enumerate(cells):
+        tags = cell.get("metadata", {}).get("tags", [])
+        if SOLUTION_TAG not in tags and ANSWER_TAG not in tags:
+            continue
+        j = i - 1
+        while j >= 0 and cells[j].cell_type != "markdown":
+            j -= 1
+        statement = cells[j].source if j >= 0 else ""
+        defined = _defined(cell.source) if SOLUTION_TAG in tags else set(_PLACEHOLDER.findall(cell.source))
+        answers = tuple(n for n in dict.fromkeys(_NAME.findall(statement)) if n in defined)
+        out.append(Exercise(statement=j, answer=i, check=i + 1, answers=answers))
+    return out
+
+
+def student_edition(nb):
+    """A copy of ``nb`` with each solution replaced by an answer cell to fill in (tagged
+    ``answer``), the outputs of answer and check cells cleared."""
+    student = copy.deepcopy(_notebook(nb))
+    for ex in exercises(student):
+        cell = student.cells[ex.answer]
+        names = ", ".join(ex.answers) or "your answer"
+        cell.source = f"# Your answer: define {names} here.\n"
+        tags = [t for t in cell.metadata.get("tags", []) if t not in (SOLUTION_TAG, "hide-input")]
+        cell.metadata = {"tags": tags + [ANSWER_TAG]}
+        cell.outputs, cell.execution_count = [], None
+        check = student.cells[ex.check]
+        check.outputs, check.execution_count = [], None
+    return student
+
+
+def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
+    """Execute the notebook at ``path`` and grade each of its exercises by its check's outcome."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    timeout = as_positive("timeout_s", timeout_s)
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
+    nb = nbformat.read(path, as_version=4)
+    NotebookClient(nb, timeout=timeout, kernel_name="python3", allow_errors=True,
+                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    grades = []
+    for number, ex in enumerate(exercises(nb), start=1):
+        errors = [o for o in nb.cells[ex.check].get("outputs", []) if o.get("output_type") == "error"]
+        if errors:
+            feedback = errors[0].get("evalue") or errors[0].get("ename", "error")
+            if errors[0].get("ename") != "AssertionError":
+                feedback = f"{errors[0].get('ename')}: {feedback}"
+            grades.append(Grade(number, False, feedback))
+        else:
+            grades.append(Grade(number, True, "passed"))
+    return grades
