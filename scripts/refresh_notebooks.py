@@ -15,7 +15,7 @@ import nbformat
 from nbclient import NotebookClient
 
 NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
-KEEP_CELL_METADATA = ("tags", "jupyter", "editable", "deletable")
+KEEP_CELL_METADATA = ("tags", "jupyter", "editable", "deletable", "mutations")
 
 
 def normalise(nb: nbformat.NotebookNode) -> None:

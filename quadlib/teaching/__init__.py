@@ -3,13 +3,14 @@
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
 from .display import show_source
-from .grading import Exercise, Grade, exercises, grade_notebook, student_edition
+from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import plot_consistency, plot_estimate, plot_innovations
 
 __all__ = [
     "Exercise",
     "Grade",
+    "Mutation",
     "animate_quad2d",
     "animation_html",
     "batch_mean",
@@ -21,6 +22,7 @@ __all__ = [
     "gaussian_likelihood",
     "grade_notebook",
     "half_average",
+    "mutation_run",
     "plot_consistency",
     "plot_estimate",
     "plot_innovations",

@@ -10,6 +10,10 @@ with a message that says what is wrong without giving the answer away).
 * :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient; a failing cell
   does not stop the run) and reads each check's outcome: passed, or the assertion's message as
   feedback.
+* :func:`mutation_run` proves the checks: a solution cell lists plausible wrong answers in its
+  metadata (``"mutations"``: a guess of the right order, a neighbouring quantity, another
+  filter's figure, a unit or sign slip), and each, run in place of the solution, must make the
+  check fail with something other than "answer not set yet".
 
 The project grades with this small tool rather than otter-grader or nbgrader. Both would need
 every chapter rewritten into their own format (otter's ``# BEGIN QUESTION`` cells and separate
@@ -28,7 +32,8 @@ from pathlib import Path
 
 from quadlib.validation import as_positive
 
-__all__ = ["ANSWER_TAG", "SOLUTION_TAG", "Exercise", "Grade", "exercises", "grade_notebook", "student_edition"]
+__all__ = ["ANSWER_TAG", "SOLUTION_TAG", "Exercise", "Grade", "Mutation", "exercises", "grade_notebook",
+           "mutation_run", "student_edition"]
 
 SOLUTION_TAG, ANSWER_TAG = "solution", "answer"
 _NAME = re.compile(r"`([A-Za-z_]\w*)[`(]")
@@ -131,3 +136,59 @@ def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
         else:
             grades.append(Grade(number, True, "passed"))
     return grades
+
+
+@dataclass(frozen=True)
+class Mutation:
+    """One wrong answer tried by :func:`mutation_run`: the exercise's ``number``, the wrong
+    ``source``, whether the check ``rejected`` it, and the check's ``feedback``."""
+
+    number: int
+    source: str
+    rejected: bool
+    feedback: str
+
+
+def _error(cell) -> tuple[str, str] | None:
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "error":
+            return out.get("ename", ""), out.get("evalue", "")
+    return None
+
+
+def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
+    """Execute the solution edition at ``path`` in one kernel; before each solution, run each of
+    its ``mutations`` followed by the check, and record whether the check rejected it (an
+    ``AssertionError`` that is not "answer not set yet"). The solution and its check then run as
+    usual, and must pass."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    timeout = as_positive("timeout_s", timeout_s)
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
+    nb = nbformat.read(path, as_version=4)
+    by_answer = {ex.answer: (number, ex) for number, ex in enumerate(exercises(nb), start=1)}
+    client = NotebookClient(nb, timeout=timeout, kernel_name="python3", allow_errors=True,
+                            resources={"metadata": {"path": str(path.parent)}})
+    results = []
+    with client.setup_kernel():
+        for index, cell in enumerate(nb.cells):
+            if index in by_answer:
+                number, ex = by_answer[index]
+                for source in cell.metadata.get("mutations", []):
+                    wrong = nbformat.v4.new_code_cell(source)
+                    check = nbformat.v4.new_code_cell(nb.cells[ex.check].source)
+                    client.execute_cell(wrong, index)
+                    client.execute_cell(check, ex.check)
+                    error = _error(wrong) or _error(check)
+                    rejected = error is not None and error[0] == "AssertionError" and \
+                        not error[1].startswith("answer not set yet")
+                    results.append(Mutation(number, source, rejected, "passed" if error is None else ": ".join(error)))
+            if cell.cell_type == "code":
+                client.execute_cell(cell, index)
+                error = _error(cell)
+                if error is not None and "raises-exception" not in cell.metadata.get("tags", []):
+                    raise RuntimeError(f"{path.name}, cell {index}: the solution edition failed: {': '.join(error)}")
+    return results
