@@ -42,7 +42,7 @@ def test_grading_passes_a_solution_fails_a_blank_and_explains_a_wrong_answer(tmp
     wrong = student_edition(nb)
     wrong.cells[ex.answer].source = "alpha_ex, lag_ex = 0.5, 1.0"
     nbformat.write(wrong, tmp_path / "wrong.ipynb")
-    assert [g.passed for g in grade_notebook(tmp_path / "solution.ipynb")] == [True]
+    assert [g.passed for g in grade_notebook(tmp_path / "solution.ipynb")] == [True] * len(exercises(nb))
     blank = grade_notebook(tmp_path / "blank.ipynb")
     assert not blank[0].passed and blank[0].feedback.startswith("answer not set yet")
     graded = grade_notebook(tmp_path / "wrong.ipynb")
