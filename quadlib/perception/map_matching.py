@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from quadlib.geometry.rotations import wrap_angle
 from quadlib.perception.icp import icp
 from quadlib.validation import as_finite_array, as_positive, as_probability, as_vector
 
@@ -111,5 +112,5 @@ def _planar(name: str, value) -> np.ndarray:
 
 def _pose_difference(a, b):
     d = a - b
-    d[2] = np.angle(np.exp(1j * d[2]))
+    d[2] = wrap_angle(d[2])
     return d

@@ -198,10 +198,11 @@ def localise(particles, odometry, scans, bearings, segments, dt: float, rng, *, 
         raise ValueError(f"scheme: expected one of {RESAMPLING_SCHEMES}, got {scheme!r}")
     rng = as_rng(rng)
     n, k = p.shape[0], odo.shape[0]
-    keep = {int(j) for j in snapshots} if all(isinstance(j, (int, np.integer)) and not isinstance(j, bool)
-                                              and 0 <= j < k for j in snapshots) else None
-    if keep is None:
-        raise ValueError(f"snapshots: expected step indices in [0, {k - 1}], got {snapshots!r}")
+    keep = set()
+    for step in snapshots:
+        if isinstance(step, bool) or not isinstance(step, (int, np.integer)) or not 0 <= step < k:
+            raise ValueError(f"snapshots: expected step indices in [0, {k - 1}], got {snapshots!r}")
+        keep.add(int(step))
     kept = {}
     log_w = np.full(n, -np.log(n))
     pose, spread, ess, resampled = np.zeros((k, 3)), np.zeros(k), np.zeros(k), np.zeros(k, dtype=bool)
