@@ -6,8 +6,11 @@ Math is rendered by a local copy of MathJax 3 (from the pinned
 """
 
 import importlib.util
+import os
 import shutil
 from pathlib import Path
+
+os.environ["QUADLIB_PROGRESS"] = "off"  # the executed chapters store no progress bars
 
 project = "State estimation for drones"
 author = "quadlib authors"

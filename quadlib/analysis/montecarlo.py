@@ -19,6 +19,7 @@ import numpy as np
 from quadlib.analysis.batched import batch_supported, run_linear_batch
 from quadlib.analysis.metrics import nees
 from quadlib.model import Model, Sensor
+from quadlib.progress import progress
 from quadlib.replay import run_filter
 from quadlib.samples import Measurements
 from quadlib.sim.simulate import sample_sensor, simulate_model
@@ -105,7 +106,7 @@ class MonteCarloRuns:
 def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequence[Sensor], x0, P0, t, u,
                     n_runs: int, rng, *, assumed_sensors: Mapping[str, Sequence[Sensor]] | None = None,
                     corrupt: Callable | None = None, gate_probability: float | None = None,
-                    batched: bool = True) -> dict[str, MonteCarloRuns]:
+                    batched: bool = True, progress_label: str | None = None) -> dict[str, MonteCarloRuns]:
     """Run every filter on the same ``n_runs`` simulated flights.
 
     Each run draws its true initial state from ``N(x0, P0)`` — the prior the filters start
@@ -138,6 +139,8 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
     batched : bool
         Run a :class:`~quadlib.LinearKF` over all runs at once (:mod:`~quadlib.analysis.batched`:
         the same numbers, many times faster); False replays every run on its own.
+    progress_label : str, optional
+        Show progress bars (:func:`~quadlib.progress.progress`) named after it.
 
     Returns
     -------
@@ -156,13 +159,18 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         gate_probability = as_probability("gate_probability", gate_probability)
     if not isinstance(batched, bool):
         raise TypeError(f"batched: expected True or False, got {batched!r}")
+    if progress_label is not None and not (isinstance(progress_label, str) and progress_label):
+        raise TypeError(f"progress_label: expected a non-empty str or None, got {progress_label!r}")
     assumed_sensors = dict(assumed_sensors or {})
     for name, assumed in assumed_sensors.items():
         if name not in filters or len(assumed) != len(sensors):
             raise ValueError(f"assumed_sensors[{name!r}]: expected {len(sensors)} sensors for a filter in "
                              f"filters, got {len(assumed)}")
+    def bar(items, what):
+        return items if progress_label is None else progress(items, f"{progress_label}: {what}")
+
     truths, runs_samples = [], []
-    for _ in range(int(n_runs)):
+    for _ in bar(range(int(n_runs)), "flights"):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
         truths.append(truth)
         samples = [sample_sensor(s, t, truth, rng) for s in sensors]
@@ -184,7 +192,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
                                                    seen_runs, gate_probability)
         else:
             runs = [run_filter(first if i == 0 else make(x0, P0), t, u, seen, gate_probability=gate_probability)
-                    for i, seen in enumerate(seen_runs)]
+                    for i, seen in bar(list(enumerate(seen_runs)), name)]
             x, P = np.array([r.x for r in runs]), np.array([r.P for r in runs])
             nis = {key: np.array([r.sensors[key].nis for r in runs]) for key in runs[0].sensors}
             rejected = {key: np.array([int(r.sensors[key].rejected.sum()) for r in runs]) for key in runs[0].sensors}
