@@ -1,4 +1,7 @@
-"""Helpers that exist only for teaching: averaging, histograms, plots, animations, and the graded exercises."""
+"""Helpers that exist only for teaching: averaging, histograms, plots, animations, progress bars, and
+the graded exercises."""
+
+from quadlib.progress import progress
 
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
@@ -6,14 +9,34 @@ from .display import show_source
 from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import plot_consistency, plot_estimate, plot_innovations
+from .tuning import (
+                     ComplementaryTrial,
+                     GateTrial,
+                     KfTuningTrial,
+                     complementary_trial,
+                     gate_trial,
+                     kf_tuning_trial,
+                     plot_trial,
+                     show_trial,
+                     tuning_sliders,
+)
 
 __all__ = [
+    "ComplementaryTrial",
+    "GateTrial",
+    "KfTuningTrial",
     "Exercise",
     "Grade",
     "Mutation",
     "animate_quad2d",
     "animation_html",
     "batch_mean",
+    "complementary_trial",
+    "gate_trial",
+    "kf_tuning_trial",
+    "plot_trial",
+    "show_trial",
+    "tuning_sliders",
     "belief_mean_std",
     "exercises",
     "exponential_average",
@@ -26,6 +49,7 @@ __all__ = [
     "plot_consistency",
     "plot_estimate",
     "plot_innovations",
+    "progress",
     "quad2d_geometry",
     "recursive_mean",
     "show_source",

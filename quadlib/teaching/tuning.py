@@ -1,0 +1,281 @@
+"""Interactive tuning: what the chapters' sliders compute, and the sliders.
+
+Each ``*_trial`` function runs one small, seeded experiment for one setting and returns a
+record; :func:`plot_trial` draws it and :func:`show_trial` prints and draws it — the callback of
+a slider. A chapter offers the sliders (:func:`tuning_sliders`, live only in Jupyter) and then
+calls :func:`show_trial` once with fixed values, an output that the tests check and the book
+shows.
+
+* :func:`kf_tuning_trial` — the 1D quadrotor's Kalman filter with an assumed σ_a (Q) and σ_r (R)
+  over simulated flights: RMSE, and mean NEES / NIS against their χ² bands (chapters 03, 05).
+* :func:`complementary_trial` — the complementary filter's roll and pitch with a time constant
+  τ on the square flights of chapter 07.
+* :func:`gate_trial` — a χ² gate of a chosen probability on the 2D quadrotor's sonar with
+  dropouts and outliers: outliers caught, good samples lost, RMSE (chapter 06).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from quadlib.analysis.metrics import chi2_interval, rmse
+from quadlib.analysis.montecarlo import run_monte_carlo
+from quadlib.attitude.complementary import nonlinear_complementary
+from quadlib.filters import LinearKF, ModelEKF
+from quadlib.model_filter import gate_threshold
+from quadlib.quad.flight import SensorNoise3D, square_course
+from quadlib.quad.quad1d import quad1d_model, quad1d_range_sensor
+from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
+from quadlib.samples import Measurements
+from quadlib.sim.imu import imu_samples
+from quadlib.sim.simulate import with_dropouts, with_outliers
+from quadlib.sim.trajectories import piecewise_constant
+from quadlib.validation import as_positive, as_probability
+
+__all__ = ["ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
+           "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
+
+KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_a [m/s²] and σ_r [m] (chapters 03 and 05)
+
+
+def _count(name: str, value, low: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
+    return int(value)
+
+
+def _seed(seed) -> int:
+    return _count("seed", seed, 0)
+
+
+@dataclass(frozen=True)
+class KfTuningTrial:
+    """The 1D quadrotor's KF with assumed ``sigma_a`` and ``sigma_r`` over ``n_flights`` flights:
+    the mean NEES at each time ``t`` and NIS at each range sample ``t_range``, their 95 % χ²
+    ``nees_band`` and ``nis_band`` for that many flights, and the height RMSE after the first
+    second, ``rmse_z`` [m]."""
+
+    sigma_a: float
+    sigma_r: float
+    n_flights: int
+    t: np.ndarray
+    mean_nees: np.ndarray
+    t_range: np.ndarray
+    mean_nis: np.ndarray
+    nees_band: tuple[float, float]
+    nis_band: tuple[float, float]
+    rmse_z: float
+
+    @property
+    def anees(self) -> float:
+        """The NEES averaged over flights and time."""
+        return float(self.mean_nees.mean())
+
+    @property
+    def anis(self) -> float:
+        """The NIS averaged over flights and range samples."""
+        return float(np.nanmean(self.mean_nis))
+
+    @property
+    def verdict(self) -> str:
+        """"consistent" when :attr:`anees` lies inside ``nees_band``, else "over-confident" (above)
+        or "pessimistic" (below)."""
+        if self.anees > self.nees_band[1]:
+            return "over-confident"
+        return "pessimistic" if self.anees < self.nees_band[0] else "consistent"
+
+    def summary(self) -> str:
+        return (f"assumed σ_a = {self.sigma_a:.3g} m/s², σ_r = {self.sigma_r:.3g} m over {self.n_flights} flights: "
+                f"height RMSE {100 * self.rmse_z:.1f} cm; mean NEES {self.anees:.2f} (band {self.nees_band[0]:.2f}"
+                f"–{self.nees_band[1]:.2f}), mean NIS {self.anis:.2f} (band {self.nis_band[0]:.2f}–"
+                f"{self.nis_band[1]:.2f}): {self.verdict}")
+
+
+def kf_tuning_trial(sigma_a: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
+                    true_sigma_a: float = KF_TRUE_SIGMAS[0]) -> KfTuningTrial:
+    """Run the 1D quadrotor's KF assuming ``sigma_a`` [m/s²] and ``sigma_r`` [m] on ``n_flights``
+    10 s flights (Δt = 0.02 s, 10 Hz range, the climb profile of chapters 03 and 05) simulated with
+    ``true_sigma_a`` and the true σ_r = 0.1 m, all starting from the filter's prior."""
+    sigma_a, sigma_r = as_positive("sigma_a", sigma_a), as_positive("sigma_r", sigma_r)
+    true_sigma_a = as_positive("true_sigma_a", true_sigma_a)
+    n_flights, rng = _count("n_flights", n_flights, 2), np.random.default_rng(_seed(seed))
+    dt = 0.02
+    t = np.arange(0.0, 10.0 + dt / 2, dt)
+    u = piecewise_constant(t, [1, 3, 5, 10, 12, 14], [1.0, -1.0, 0.0, -0.5, 0.5, 0.0])[:, None]
+    x0, P0 = np.array([0.0, 1.0]), np.diag([0.5**2, 0.5**2])
+    assumed = quad1d_model(sigma_a)
+    runs = run_monte_carlo({"KF": lambda a, b: LinearKF(assumed, a, b, dt)}, quad1d_model(true_sigma_a),
+                           [quad1d_range_sensor(KF_TRUE_SIGMAS[1], rate_hz=10)], x0, P0, t, u, n_flights, rng,
+                           assumed_sensors={"KF": [quad1d_range_sensor(sigma_r, rate_hz=10)]})["KF"]
+    nis = runs.nis["range"]
+    t_range = 0.1 * np.arange(nis.shape[1])  # the range samples, every 0.1 s from t = 0
+    return KfTuningTrial(sigma_a=sigma_a, sigma_r=sigma_r, n_flights=n_flights, t=t,
+                         mean_nees=runs.nees.mean(axis=0), t_range=t_range, mean_nis=nis.mean(axis=0),
+                         nees_band=tuple(chi2_interval(2, n_flights)), nis_band=tuple(chi2_interval(1, n_flights)),
+                         rmse_z=float(rmse(runs.errors[:, t > 1.0, 1].ravel())))
+
+
+@dataclass(frozen=True)
+class ComplementaryTrial:
+    """The complementary filter with time constant ``tau`` [s] on one square ``flight`` ("slow" or
+    "fast", optionally with a gyro bias): times ``t``, true and estimated roll and pitch
+    ``truth``, ``estimate`` (N × 2, rad), and the RMS errors ``rms_deg`` (roll, pitch)."""
+
+    tau: float
+    flight: str
+    gyro_bias: bool
+    t: np.ndarray
+    truth: np.ndarray
+    estimate: np.ndarray
+
+    @property
+    def rms_deg(self) -> np.ndarray:
+        return np.degrees(np.sqrt(np.mean((self.estimate - self.truth) ** 2, axis=0)))
+
+    def summary(self) -> str:
+        roll, pitch = self.rms_deg
+        bias = ", gyro biased by 0.02 rad/s" if self.gyro_bias else ""
+        return f"τ = {self.tau:.3g} s on the {self.flight} square{bias}: RMS error roll {roll:.2f}°, pitch {pitch:.2f}°"
+
+
+FLIGHTS = {"slow": dict(leg_s=8.0, turn_s=2.0), "fast": dict(leg_s=3.0, turn_s=2.0)}  # chapter 07's squares
+
+
+def complementary_trial(tau: float, flight: str = "fast", gyro_bias: bool = False, seed: int = 0) -> ComplementaryTrial:
+    """Run :func:`~quadlib.attitude.complementary.nonlinear_complementary` with ``tau`` [s] on
+    chapter 07's ``flight`` square, sampled at 500 Hz with :class:`~quadlib.quad.flight.SensorNoise3D`
+    (and a gyro bias of 0.02 rad/s on each axis when ``gyro_bias``); the yaw is the true one."""
+    tau = as_positive("tau", tau)
+    if flight not in FLIGHTS:
+        raise ValueError(f"flight: expected one of {sorted(FLIGHTS)}, got {flight!r}")
+    if not isinstance(gyro_bias, bool):
+        raise TypeError(f"gyro_bias: expected True or False, got {gyro_bias!r}")
+    fl = square_course(**FLIGHTS[flight])
+    noise = SensorNoise3D(gyro_bias_rad_s=(0.02, 0.02, 0.02)) if gyro_bias else SensorNoise3D()
+    log = imu_samples(fl, noise, np.random.default_rng(_seed(seed)))
+    estimate = nonlinear_complementary(fl.dt, log.gyro, log.accel, tau, yaw=fl.euler[:, 2])
+    return ComplementaryTrial(tau=tau, flight=flight, gyro_bias=gyro_bias, t=fl.t, truth=fl.euler[:, :2],
+                              estimate=estimate)
+
+
+@dataclass(frozen=True)
+class GateTrial:
+    """An EKF with a χ² gate of ``gate_probability`` (None: no gate) on ``n_flights`` sonar flights
+    of the 2D quadrotor with 20 % dropouts, a 1 s outage and 10 % outliers (10 × the noise):
+    ``caught`` (share of outliers rejected), ``good_lost`` (share of good samples rejected), the
+    RMSE of y [m] and the mean NEES."""
+
+    gate_probability: float | None
+    n_flights: int
+    caught: float
+    good_lost: float
+    rmse_y: float
+    anees: float
+
+    def summary(self) -> str:
+        gate = "no gate" if self.gate_probability is None else f"gate probability {self.gate_probability:.5g}"
+        return (f"{gate}, {self.n_flights} flights: outliers caught {self.caught:.0%}, good samples rejected "
+                f"{self.good_lost:.1%}, RMSE y {100 * self.rmse_y:.1f} cm, mean NEES {self.anees:.2f} (n = 3)")
+
+
+def gate_trial(gate_probability: float | None, n_flights: int = 20, seed: int = 0) -> GateTrial:
+    """The sonar scenario of chapter 06 (roll swing 8°, roll error 1°, σ_r = 5 cm, 5 m from the wall,
+    3 s at Δt = 0.05 s, 10 Hz) through :func:`~quadlib.analysis.montecarlo.run_monte_carlo` with
+    ``gate_probability``."""
+    if gate_probability is not None:
+        gate_probability = as_probability("gate_probability", gate_probability)
+        if not 0.0 < gate_probability < 1.0:
+            raise ValueError(f"gate_probability: expected a probability in (0, 1) or None, got {gate_probability!r}")
+    n_flights, rng = _count("n_flights", n_flights, 2), np.random.default_rng(_seed(seed))
+    dt, wall, roll_error = 0.05, 5.0, np.radians(1.0)
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    model, sensor = quad2d_model(0.2, roll_error), quad2d_range_sensor(0.05, wall_y_m=wall, rate_hz=10)
+    u = -np.radians(8.0) * np.cos(2.5 * t)[:, None]
+    x0, P0 = np.array([0.0, 0.0, 0.0]), np.diag([roll_error**2, 0.05**2, 0.1**2])
+    outliers = []
+
+    def corrupt(samples, rng_):
+        holed = with_dropouts(samples[0], rng_, 0.2)
+        z = holed.z.copy()
+        z[(holed.t >= 1.0) & (holed.t < 2.0)] = np.nan
+        bad, outlier = with_outliers(Measurements(holed.sensor, holed.t, z), rng_, 0.1, noise_scale=10.0)
+        outliers.append(outlier)
+        return [bad]
+
+    res = run_monte_carlo({"EKF": lambda a, b: ModelEKF(model, a, b, dt)}, model, [sensor], x0, P0, t, u,
+                          n_flights, rng, corrupt=corrupt, gate_probability=gate_probability)["EKF"]
+    outlier, nis = np.array(outliers), res.nis["range"]
+    rejected = nis > gate_threshold(1, gate_probability) if gate_probability is not None else np.zeros_like(outlier)
+    good = ~outlier & ~np.isnan(nis)
+    return GateTrial(gate_probability=gate_probability, n_flights=n_flights,
+                     caught=float(np.sum(rejected & outlier) / max(outlier.sum(), 1)),
+                     good_lost=float(np.sum(rejected & good) / good.sum()),
+                     rmse_y=float(rmse(res.errors[:, :, 2].ravel())), anees=float(res.nees.mean()))
+
+
+def plot_trial(trial, axes=None):
+    """Draw a trial: NEES and NIS against their bands (KF tuning), roll and pitch against the
+    truth (complementary filter); a gate trial has no plot. Returns the figure or None."""
+    import matplotlib.pyplot as plt
+
+    from quadlib.teaching.plotting import plot_consistency
+
+    if isinstance(trial, KfTuningTrial):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3)) if axes is None else (axes[0].figure, axes)
+        plot_consistency(trial.t, trial.mean_nees, 2, n_runs=trial.n_flights, ax=axes[0], name="NEES")
+        plot_consistency(trial.t_range, trial.mean_nis, 1, n_runs=trial.n_flights, ax=axes[1], name="NIS")
+        for ax in axes:
+            ax.set_yscale("log")
+    elif isinstance(trial, ComplementaryTrial):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3), sharey=True) if axes is None else (axes[0].figure, axes)
+        for ax, i, name in zip(axes, (0, 1), ("roll", "pitch"), strict=True):
+            ax.plot(trial.t, np.degrees(trial.truth[:, i]), "k", lw=1, label="truth")
+            ax.plot(trial.t, np.degrees(trial.estimate[:, i]), "C0", lw=1, label=f"τ = {trial.tau:.3g} s")
+            ax.set_xlabel("t [s]")
+            ax.set_ylabel(f"{name} [deg]")
+            ax.legend(fontsize="small", loc="upper right")
+    elif isinstance(trial, GateTrial):
+        return None
+    else:
+        raise TypeError(f"trial: expected a KfTuningTrial, ComplementaryTrial or GateTrial, got {type(trial).__name__}")
+    fig.tight_layout()
+    return fig
+
+
+def show_trial(trial) -> None:
+    """Print a trial's summary and show its plot (a slider's callback)."""
+    import matplotlib.pyplot as plt
+
+    if not isinstance(trial, (KfTuningTrial, ComplementaryTrial, GateTrial)):
+        raise TypeError(f"trial: expected a KfTuningTrial, ComplementaryTrial or GateTrial, got {type(trial).__name__}")
+    print(trial.summary())
+    if plot_trial(trial) is not None:
+        plt.show()
+
+
+def tuning_sliders(trial_function, **sliders):
+    """Sliders (ipywidgets) that rerun ``trial_function(**values)`` and show the result when a
+    slider is released. Each slider is ``(low, high)`` for a logarithmic scale, or a list of
+    options; the first value shown is the geometric middle, or the first option. In Jupyter the
+    returned widget displays itself; outside a kernel it does nothing."""
+    import ipywidgets as widgets
+
+    if not callable(trial_function):
+        raise TypeError(f"trial_function: expected a callable, got {type(trial_function).__name__}")
+    controls = {}
+    for name, spec in sliders.items():
+        if isinstance(spec, tuple) and len(spec) == 2 and 0.0 < spec[0] < spec[1]:
+            low, high = np.log10(spec[0]), np.log10(spec[1])
+            controls[name] = widgets.FloatLogSlider(value=10 ** ((low + high) / 2), base=10, min=low, max=high,
+                                                    step=(high - low) / 40, description=name,
+                                                    continuous_update=False)
+        elif isinstance(spec, list) and spec:
+            controls[name] = widgets.SelectionSlider(options=[(str(o), o) for o in spec], index=0,
+                                                     description=name, continuous_update=False)
+        else:
+            raise ValueError(f"{name}: expected (low, high) with 0 < low < high, or a non-empty list, got {spec!r}")
+    if not controls:
+        raise ValueError("sliders: expected at least one slider, got none")
+    return widgets.interactive(lambda **values: show_trial(trial_function(**values)), **controls)
