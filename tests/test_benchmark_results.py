@@ -45,3 +45,22 @@ def test_the_particle_filter_table_is_reproduced_for_its_cheapest_row():
                                     sigma_m=float(row["sigma_m"]))
     assert share == pytest.approx(float(row["found"]), abs=1e-9)
     assert error == pytest.approx(float(row["median_error_m"]), abs=1e-3)
+
+
+ATTITUDE = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "attitude_filters.csv"
+
+
+def test_the_fig_5_2_table_is_reproduced_for_its_cheapest_filter():
+    """Chapter 10 shows benchmarks/results/attitude_filters.csv (two minutes of tumbling per entry);
+    the TQKF's entry at k = 1 with the thesis's noise is recomputed here."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("attitude_filters", ATTITUDE.parents[1] / "attitude_filters.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    with ATTITUDE.open(newline="") as f:
+        rows = {(r["noise"], int(r["k"]), r["filter"]): r for r in csv.DictReader(f)}
+    assert len(rows) == 2 * 5 * 5
+    row = rows["thesis", 1, "TQKF"]
+    value = bench.fig_5_2_entry("TQKF", "thesis", 1, seconds=float(row["seconds"]), seed=int(row["seed"]))
+    assert value == pytest.approx(float(row["mse_deg2"]), rel=1e-4)
