@@ -25,6 +25,7 @@ nb_execution_timeout = 300
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_merge_streams = True
+nb_ipywidgets_js = {}  # no widget scripts from a CDN: slider cells show no output in the book
 
 html_theme = "sphinx_book_theme"
 html_title = project
