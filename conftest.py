@@ -1,6 +1,6 @@
 """Shared by every pytest run from the project root (unit tests and nbval): no progress bars,
 so that the notebooks' kernels, which inherit this environment, write the stored outputs."""
 
-import os
+from quadlib.progress import switch_off
 
-os.environ["QUADLIB_PROGRESS"] = "off"
+switch_off()

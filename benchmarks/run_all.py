@@ -6,14 +6,15 @@ Usage: ``python benchmarks/run_all.py`` (or ``make benchmark``). Prints a table;
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 
 import nbformat
 from nbclient import NotebookClient
 
-os.environ["QUADLIB_PROGRESS"] = "off"  # no progress bars in stored or timed outputs
+from quadlib.progress import switch_off
+
+switch_off()  # no progress bars in stored or timed outputs
 
 NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
 BUDGET_S = 20.0

@@ -6,11 +6,12 @@ Math is rendered by a local copy of MathJax 3 (from the pinned
 """
 
 import importlib.util
-import os
 import shutil
 from pathlib import Path
 
-os.environ["QUADLIB_PROGRESS"] = "off"  # the executed chapters store no progress bars
+from quadlib.progress import switch_off
+
+switch_off()  # the executed chapters store no progress bars
 
 project = "State estimation for drones"
 author = "quadlib authors"

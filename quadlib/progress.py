@@ -13,7 +13,7 @@ from collections.abc import Iterable
 
 from tqdm.auto import tqdm
 
-__all__ = ["ENV_VAR", "progress", "progress_enabled"]
+__all__ = ["ENV_VAR", "progress", "progress_enabled", "switch_off"]
 
 ENV_VAR = "QUADLIB_PROGRESS"
 
@@ -21,6 +21,11 @@ ENV_VAR = "QUADLIB_PROGRESS"
 def progress_enabled() -> bool:
     """Whether :func:`progress` draws bars (``QUADLIB_PROGRESS`` is not ``off``)."""
     return os.environ.get(ENV_VAR, "on").strip().lower() != "off"
+
+
+def switch_off() -> None:
+    """Switch bars off for this process and every kernel it starts from now on."""
+    os.environ[ENV_VAR] = "off"
 
 
 def progress(iterable: Iterable, label: str, total: int | None = None) -> Iterable:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "as_count",
     "as_covariance",
     "as_finite_array",
     "as_finite_number",
@@ -189,6 +190,13 @@ def as_probability(name: str, value, open_interval: bool = True) -> float:
         interval = "(0, 1)" if open_interval else "[0, 1]"
         raise ValueError(f"{name}: expected a number in {interval}, got {value!r}")
     return x
+
+
+def as_count(name: str, value, low: int = 1) -> int:
+    """Return ``value`` as an int >= ``low`` (a number of runs, a seed); bools are refused."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
+    return int(value)
 
 
 def as_times(name: str, value) -> np.ndarray:

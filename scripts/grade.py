@@ -10,13 +10,13 @@ per submission and exercise.
 from __future__ import annotations
 
 import csv
-import os
 import sys
 from pathlib import Path
 
+from quadlib.progress import switch_off
 from quadlib.teaching.grading import grade_notebook
 
-os.environ["QUADLIB_PROGRESS"] = "off"  # no progress bars in stored or timed outputs
+switch_off()  # no progress bars in stored or timed outputs
 
 
 def main(folder: Path, scores: Path) -> None:

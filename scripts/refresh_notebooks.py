@@ -7,7 +7,6 @@ counted 1, 2, 3 … and free of per-run metadata (timings, widget state).
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 from pathlib import Path
@@ -15,7 +14,9 @@ from pathlib import Path
 import nbformat
 from nbclient import NotebookClient
 
-os.environ["QUADLIB_PROGRESS"] = "off"  # no progress bars in stored or timed outputs
+from quadlib.progress import switch_off
+
+switch_off()  # no progress bars in stored or timed outputs
 
 NOTEBOOKS = Path(__file__).resolve().parent.parent / "notebooks"
 KEEP_CELL_METADATA = ("tags", "jupyter", "editable", "deletable", "mutations")

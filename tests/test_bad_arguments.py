@@ -206,6 +206,7 @@ from quadlib.quad import (
     Quad3DTuning,
     SensorNoise3D,
     baro_samples,
+    climb_input,
     estimate_quad3d,
     figure_eight,
     flight_from_path,
@@ -245,6 +246,7 @@ from quadlib.sim import (
     step_profile,
     vertical_sine,
     with_dropouts,
+    with_outage,
     with_outliers,
 )
 from quadlib.teaching import (
@@ -819,6 +821,9 @@ PROBES += [
     Probe(with_dropouts, lambda: dict(measurements=_measurements(), rng=np.random.default_rng(0), probability=0.3),
           {"measurements": WRONG_TYPE, "rng": BAD["rng"],
            "probability": st.sampled_from([-0.1, 1.1, NAN, "0.5"])}),
+    Probe(with_outage, lambda: dict(measurements=_measurements(), start_s=0.05, end_s=0.15),
+          {"measurements": WRONG_TYPE, "start_s": st.sampled_from([NAN, INF, "0"]),
+           "end_s": st.sampled_from([0.05, 0.0, NAN, "1"])}),
     Probe(with_outliers, lambda: dict(measurements=_measurements(), rng=np.random.default_rng(0), probability=0.3),
           {"measurements": WRONG_TYPE, "rng": BAD["rng"], "probability": st.sampled_from([-0.1, 1.1, NAN, "0.5"]),
            "noise_scale": POS}),
@@ -958,6 +963,7 @@ PROBES += [
     # quadrotor
     Probe(quad1d_model, lambda: dict(accel_sigma_m_s2=0.5), {"accel_sigma_m_s2": POS}),
     Probe(quad1d_range_sensor, lambda: dict(sigma_m=0.1), {"sigma_m": POS, "rate_hz": POS}),
+    Probe(climb_input, lambda: dict(t=[0.0, 1.0]), {"t": st.sampled_from([[NAN, 1.0], "t", [[0.0]]])}),
     Probe(quad2d_model, lambda: dict(accel_sigma_m_s2=0.5, roll_sigma_rad=0.05),
           {"accel_sigma_m_s2": POS, "roll_sigma_rad": POS, "lateral_accel": st.sampled_from(["magic", 3, None])}),
     Probe(quad2d_range_sensor, lambda: dict(sigma_m=0.1), {"sigma_m": POS, "wall_y_m": FIN, "rate_hz": POS}),

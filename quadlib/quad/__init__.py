@@ -15,7 +15,7 @@ from .flight import (
 )
 from .height import height_model, range_sensor
 from .pipeline import simple_pipeline
-from .quad1d import quad1d_model, quad1d_range_sensor
+from .quad1d import climb_input, quad1d_model, quad1d_range_sensor
 from .quad2d import quad2d_model, quad2d_range_sensor
 from .quad3d import (
     imu_inputs,
@@ -43,6 +43,7 @@ __all__ = [
     "imu_inputs",
     "mag_field_samples",
     "mag_yaw_samples",
+    "climb_input",
     "quad1d_model",
     "quad1d_range_sensor",
     "quad2d_model",

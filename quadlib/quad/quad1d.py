@@ -23,9 +23,10 @@ from __future__ import annotations
 import numpy as np
 
 from quadlib.model import Model, Sensor
+from quadlib.sim.trajectories import piecewise_constant
 from quadlib.validation import as_positive
 
-__all__ = ["quad1d_model", "quad1d_range_sensor"]
+__all__ = ["climb_input", "quad1d_model", "quad1d_range_sensor"]
 
 
 def quad1d_model(accel_sigma_m_s2: float) -> Model:
@@ -66,3 +67,10 @@ def quad1d_range_sensor(sigma_m: float, rate_hz: float | None = None) -> Sensor:
     return Sensor(name="range", measurement_names=("range [m]",),
                   h=lambda x: x[1:2].copy(), H=lambda x: np.array([[0.0, 1.0]]),
                   R=np.full((1, 1), s**2), rate_hz=rate_hz)
+
+
+def climb_input(t) -> np.ndarray:
+    """The commanded vertical acceleration of chapters 3 and 5, ``(N, 1)`` [m/s²] at times ``t``:
+    hover for 1 s, climb (+1 m/s² for 2 s, −1 for 2 s), hold, descend (−0.5 for 2 s, +0.5 for 2 s),
+    then hover."""
+    return piecewise_constant(t, [1, 3, 5, 10, 12, 14], [1.0, -1.0, 0.0, -0.5, 0.5, 0.0])[:, None]

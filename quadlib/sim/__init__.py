@@ -2,7 +2,7 @@
 
 from .faults import imu_faults
 from .imu import BodyMotion, imu_samples, specific_force_at_rest
-from .simulate import sample_sensor, simulate_model, with_dropouts, with_outliers
+from .simulate import sample_sensor, simulate_model, with_dropouts, with_outage, with_outliers
 from .trajectories import VerticalRun, min_jerk, piecewise_constant, step_profile, vertical_sine
 
 __all__ = [
@@ -18,5 +18,6 @@ __all__ = [
     "step_profile",
     "vertical_sine",
     "with_dropouts",
+    "with_outage",
     "with_outliers",
 ]

@@ -9,7 +9,15 @@ import numpy as np
 
 from quadlib.model import Model, Sensor
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_array, as_instance, as_positive, as_probability, as_rng, as_times
+from quadlib.validation import (
+    as_finite_array,
+    as_finite_number,
+    as_instance,
+    as_positive,
+    as_probability,
+    as_rng,
+    as_times,
+)
 
 __all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
 
@@ -89,6 +97,19 @@ def with_dropouts(measurements: Measurements, rng, probability: float) -> Measur
     p = as_probability("probability", probability, open_interval=False)
     z = measurements.z.copy()
     z[rng.random(z.shape[0]) < p] = np.nan
+    return Measurements(measurements.sensor, measurements.t, z)
+
+
+def with_outage(measurements: Measurements, start_s: float, end_s: float) -> Measurements:
+    """Copy of ``measurements`` with every sample in ``[start_s, end_s)`` missing (NaN): a sensor
+    that stops reporting for a while."""
+    measurements = as_instance("measurements", measurements, Measurements)
+    start_s = as_finite_number("start_s", start_s)
+    end_s = as_finite_number("end_s", end_s)
+    if end_s <= start_s:
+        raise ValueError(f"end_s: expected a time after start_s = {start_s:g} s, got {end_s!r}")
+    z = measurements.z.copy()
+    z[(measurements.t >= start_s) & (measurements.t < end_s)] = np.nan
     return Measurements(measurements.sensor, measurements.t, z)
 
 

@@ -26,28 +26,16 @@ from quadlib.attitude.complementary import nonlinear_complementary
 from quadlib.filters import LinearKF, ModelEKF
 from quadlib.model_filter import gate_threshold
 from quadlib.quad.flight import SensorNoise3D, square_course
-from quadlib.quad.quad1d import quad1d_model, quad1d_range_sensor
+from quadlib.quad.quad1d import climb_input, quad1d_model, quad1d_range_sensor
 from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
-from quadlib.samples import Measurements
 from quadlib.sim.imu import imu_samples
-from quadlib.sim.simulate import with_dropouts, with_outliers
-from quadlib.sim.trajectories import piecewise_constant
-from quadlib.validation import as_positive, as_probability
+from quadlib.sim.simulate import with_dropouts, with_outage, with_outliers
+from quadlib.validation import as_count, as_positive, as_probability
 
 __all__ = ["ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
            "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
 
 KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_a [m/s²] and σ_r [m] (chapters 03 and 05)
-
-
-def _count(name: str, value, low: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
-    return int(value)
-
-
-def _seed(seed) -> int:
-    return _count("seed", seed, 0)
 
 
 @dataclass(frozen=True)
@@ -100,10 +88,10 @@ def kf_tuning_trial(sigma_a: float, sigma_r: float, n_flights: int = 20, seed: i
     ``true_sigma_a`` and the true σ_r = 0.1 m, all starting from the filter's prior."""
     sigma_a, sigma_r = as_positive("sigma_a", sigma_a), as_positive("sigma_r", sigma_r)
     true_sigma_a = as_positive("true_sigma_a", true_sigma_a)
-    n_flights, rng = _count("n_flights", n_flights, 2), np.random.default_rng(_seed(seed))
+    n_flights, rng = as_count("n_flights", n_flights, 2), np.random.default_rng(as_count("seed", seed, 0))
     dt = 0.02
     t = np.arange(0.0, 10.0 + dt / 2, dt)
-    u = piecewise_constant(t, [1, 3, 5, 10, 12, 14], [1.0, -1.0, 0.0, -0.5, 0.5, 0.0])[:, None]
+    u = climb_input(t)
     x0, P0 = np.array([0.0, 1.0]), np.diag([0.5**2, 0.5**2])
     assumed = quad1d_model(sigma_a)
     runs = run_monte_carlo({"KF": lambda a, b: LinearKF(assumed, a, b, dt)}, quad1d_model(true_sigma_a),
@@ -154,7 +142,7 @@ def complementary_trial(tau: float, flight: str = "fast", gyro_bias: bool = Fals
         raise TypeError(f"gyro_bias: expected True or False, got {gyro_bias!r}")
     fl = square_course(**FLIGHTS[flight])
     noise = SensorNoise3D(gyro_bias_rad_s=(0.02, 0.02, 0.02)) if gyro_bias else SensorNoise3D()
-    log = imu_samples(fl, noise, np.random.default_rng(_seed(seed)))
+    log = imu_samples(fl, noise, np.random.default_rng(as_count("seed", seed, 0)))
     estimate = nonlinear_complementary(fl.dt, log.gyro, log.accel, tau, yaw=fl.euler[:, 2])
     return ComplementaryTrial(tau=tau, flight=flight, gyro_bias=gyro_bias, t=fl.t, truth=fl.euler[:, :2],
                               estimate=estimate)
@@ -186,9 +174,7 @@ def gate_trial(gate_probability: float | None, n_flights: int = 20, seed: int = 
     ``gate_probability``."""
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
-        if not 0.0 < gate_probability < 1.0:
-            raise ValueError(f"gate_probability: expected a probability in (0, 1) or None, got {gate_probability!r}")
-    n_flights, rng = _count("n_flights", n_flights, 2), np.random.default_rng(_seed(seed))
+    n_flights, rng = as_count("n_flights", n_flights, 2), np.random.default_rng(as_count("seed", seed, 0))
     dt, wall, roll_error = 0.05, 5.0, np.radians(1.0)
     t = np.arange(0.0, 3.0 + dt / 2, dt)
     model, sensor = quad2d_model(0.2, roll_error), quad2d_range_sensor(0.05, wall_y_m=wall, rate_hz=10)
@@ -197,10 +183,8 @@ def gate_trial(gate_probability: float | None, n_flights: int = 20, seed: int = 
     outliers = []
 
     def corrupt(samples, rng_):
-        holed = with_dropouts(samples[0], rng_, 0.2)
-        z = holed.z.copy()
-        z[(holed.t >= 1.0) & (holed.t < 2.0)] = np.nan
-        bad, outlier = with_outliers(Measurements(holed.sensor, holed.t, z), rng_, 0.1, noise_scale=10.0)
+        bad, outlier = with_outliers(with_outage(with_dropouts(samples[0], rng_, 0.2), 1.0, 2.0), rng_, 0.1,
+                                     noise_scale=10.0)
         outliers.append(outlier)
         return [bad]
 

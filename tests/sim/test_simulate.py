@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 
 from quadlib.quad.height import height_model, range_sensor
-from quadlib.sim.simulate import sample_sensor, simulate_model, with_dropouts
+from quadlib.quad.quad1d import climb_input
+from quadlib.sim.simulate import sample_sensor, simulate_model, with_dropouts, with_outage
 from quadlib.sim.trajectories import step_profile
 
 
@@ -39,6 +40,28 @@ def test_dropouts_fraction():
     holed = with_dropouts(meas, np.random.default_rng(4), 0.2)
     assert np.isnan(holed.z).mean() == pytest.approx(0.2, abs=0.02)
     assert not np.isnan(meas.z).any()  # the original is untouched
+
+
+def test_an_outage_empties_exactly_its_window_and_keeps_the_rest():
+    s = range_sensor(0.3)
+    t = np.arange(0, 10, 0.1)
+    meas = sample_sensor(s, t, np.zeros((t.size, 1)), np.random.default_rng(3))
+    cut = with_outage(meas, 2.0, 3.0)
+    inside = (t >= 2.0) & (t < 3.0)
+    assert np.isnan(cut.z[inside]).all() and inside.sum() == 10
+    assert np.array_equal(cut.z[~inside], meas.z[~inside]) and cut.sensor is meas.sensor
+    assert not np.isnan(meas.z).any()  # the original is untouched
+
+
+def test_the_climb_input_rises_and_returns_to_rest():
+    dt = 0.02
+    t = np.arange(0.0, 20.0 + dt / 2, dt)
+    u = climb_input(t)
+    assert u.shape == (t.size, 1)
+    assert u[t < 1].max() == 0.0 and u[(t >= 1) & (t < 3), 0].min() == 1.0 and u[t >= 14].max() == 0.0
+    velocity = np.cumsum(u[:, 0]) * dt
+    assert abs(velocity[-1]) < 1e-9, "every climb is braked: the vehicle ends at rest"
+    assert np.sum(velocity) * dt == pytest.approx(4.0 - 2.0, abs=0.05), "climbs 4 m, then descends 2 m"
 
 
 def test_rng_required():
