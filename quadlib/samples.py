@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from quadlib.model import Sensor
-from quadlib.validation import as_finite_array, as_float_array
+from quadlib.validation import as_finite_array, as_finite_number, as_float_array
 
 __all__ = ["Measurements", "Samples", "stuck_rows", "time_resolution"]
 
@@ -25,6 +25,12 @@ def time_resolution(t) -> float:
     if arr.dtype.kind != "f" or arr.size == 0 or not np.isfinite(arr).all():
         return 1e-9
     return max(1e-9, 4 * float(np.finfo(arr.dtype).eps) * float(np.max(np.abs(arr))))
+
+
+def _window(t: np.ndarray, start_s: float, end_s: float, tol: float) -> np.ndarray:
+    """(K,) bool: ``start_s <= t <= end_s`` to within ``tol`` [s]."""
+    start_s, end_s = as_finite_number("start_s", start_s), as_finite_number("end_s", end_s)
+    return (t >= start_s - tol) & (t <= end_s + tol)
 
 
 def stuck_rows(v, n: int) -> np.ndarray:
@@ -72,6 +78,11 @@ class Samples:
             raise ValueError("Samples.z: expected finite values or NaN for missing, got inf")
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "z", z)
+
+    def between(self, start_s: float, end_s: float) -> Samples:
+        """The samples taken from ``start_s`` to ``end_s`` [s], both included."""
+        keep = _window(self.t, start_s, end_s, time_resolution(self.t))
+        return Samples(self.t[keep], self.z[keep])
 
 
 @dataclass(frozen=True)
@@ -136,6 +147,12 @@ class Measurements:
             object.__setattr__(self, "context", context)
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "z", z)
+
+    def between(self, start_s: float, end_s: float) -> Measurements:
+        """The samples (and their context) taken from ``start_s`` to ``end_s`` [s], both included."""
+        keep = _window(self.t, start_s, end_s, self.time_resolution_s)
+        context = None if self.context is None else self.context[keep]
+        return Measurements(self.sensor, self.t[keep], self.z[keep], context)
 
     @property
     def missing(self) -> np.ndarray:

@@ -95,7 +95,7 @@ def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, de
                                  run.gps.z))
     elif aid == "scans":
         aids.append(pose_measurements(run.scan_t, run.matches))
-    return run_filter(ekf, t, u, [_within(m, t[-1]) for m in aids], gate_probability=gate_probability)
+    return run_filter(ekf, t, u, [m.between(t[0], t[-1]) for m in aids], gate_probability=gate_probability)
 
 
 def sim_params(noise: SensorNoise3D) -> InsParams:
@@ -104,11 +104,6 @@ def sim_params(noise: SensorNoise3D) -> InsParams:
     return InsParams(gyro_sigma_rad_s=noise.gyro_sigma_rad_s, accel_sigma_m_s2=noise.accel_sigma_m_s2,
                      gps_pos_sigma_m=noise.gps_pos_sigma_m, gps_vel_sigma_m_s=noise.gps_vel_sigma_m_s,
                      baro_sigma_m=noise.baro_sigma_m)
-
-
-def _within(m: Measurements, t_end: float) -> Measurements:
-    keep = m.t <= t_end
-    return Measurements(m.sensor, m.t[keep], m.z[keep], None if m.context is None else m.context[keep])
 
 
 def match_poses(matches) -> np.ndarray:

@@ -359,15 +359,12 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     model = params.model(decimate)
     ekf = ModelEKF(model, x0, P0, float(np.median(np.diff(t))))
 
-    def within(s: Samples):
-        keep = (s.t >= t[0]) & (s.t <= t[-1])
-        return s.t[keep], s.z[keep]
-
     gps_sensor = ins_gps_sensor(params.gps_pos_sigma_m, params.gps_vel_sigma_m_s, params.use_gps_height)
-    tg, zg = within(gps)
-    measurements = [Measurements(gps_sensor, tg, zg if params.use_gps_height else zg[:, [0, 1, 3, 4, 5]])]
+    gps = gps.between(t[0], t[-1])
+    measurements = [Measurements(gps_sensor, gps.t, gps.z if params.use_gps_height else gps.z[:, [0, 1, 3, 4, 5]])]
     if baro is not None:
-        tb, zb = within(baro)
+        baro = baro.between(t[0], t[-1])
+        tb, zb = baro.t, baro.z
         if baro_offset_m is None:
             first = tb <= tb[0] + 1.0
             baro_offset_m = float(np.nanmean(zb[first])) + x0[9]

@@ -61,11 +61,6 @@ class Run3D:
     imu: ImuLog
 
 
-def _clip(samples: Samples, t_end: float) -> Samples:
-    keep = samples.t <= t_end + 1e-9
-    return Samples(samples.t[keep], samples.z[keep])
-
-
 def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 10, tau: float = 5.0,
                    true_attitude: bool = False) -> Run3D:
     """Sample every sensor of ``flight`` once and prepare the filter inputs.
@@ -85,7 +80,8 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     t = flight.t[k]
     truth = np.column_stack([flight.pos[k], flight.vel[k], flight.euler[k, 2]])
     return Run3D(t=t, u=u, truth=truth, true_roll_pitch=flight.euler[k, :2], roll_pitch=cf[k],
-                 gps=_clip(gps, t[-1]), mag=_clip(mag, t[-1]), baro=_clip(baro, t[-1]), imu=imu)
+                 gps=gps.between(t[0], t[-1]), mag=mag.between(t[0], t[-1]), baro=baro.between(t[0], t[-1]),
+                 imu=imu)
 
 
 def run3d_measurements(run: Run3D, gps_sensor, mag_sensor, baro_sensor=None) -> list[Measurements]:
