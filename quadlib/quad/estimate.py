@@ -25,7 +25,8 @@ class Quad3DTuning:
     accel_sigma_m_s2 : (3,) tuple
         Acceleration error per step, per NED axis [m/s²]. Horizontal 2 m/s²: it must cover the
         complementary filter's tilt error, which leaks gravity into the horizontal acceleration
-        for seconds (chapter 8's sweep: 0.3, 1, 2, 4 m/s² gave mean NEES 185, 14, 9, 8.5).
+        for seconds (chapter 8 sweeps 0.3, 1, 2, 4 m/s²: the mean NEES falls steeply up to 2 m/s² and
+        then levels off).
         Vertical 1.5/√10 ≈ 0.47 m/s²: the accelerometer's σ averaged over 10 IMU samples.
     yaw_rate_sigma_rad_s : float
         Yaw-rate input error [rad/s]: the gyro's 0.5 rad/s averaged over 10 samples, ≈ 0.16.
