@@ -22,7 +22,7 @@ NOTEBOOKS = sorted((Path(__file__).resolve().parent.parent / "notebooks").glob("
 PENDING = {
     "01_averaging", "02_bayes_filter", "03_kalman_filter", "04_unscented_kalman_filter", "05_quad_1d",
     "10_attitude_filters",
-    "12_fixedwing_ekf", "13_real_imu_data", "15_estimation_in_the_loop", "16_without_gps",
+    "13_real_imu_data", "15_estimation_in_the_loop", "16_without_gps",
     "17_particle_filter", "90_errata",
 }
 
