@@ -9,7 +9,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from quadlib.teaching.grading import exercises
+from quadlib.teaching.grading import RUBRIC_TAG, exercises, student_edition
 
 NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("[0-9][0-9]_*.ipynb"))
 CASES = [(p.name, ex, nb) for p in NOTEBOOKS for nb in [nbformat.read(p, as_version=4)] for ex in exercises(nb)]
@@ -32,3 +32,25 @@ def test_a_solution_is_collapsed_and_followed_by_a_guarded_check(name, ex, nb):
         assert guard, f"no 'answer not set yet' guard for {answer}"
     body = re.sub(r"(?m)^.*answer not set yet.*$", "", check.source)
     assert re.search(r"(?m)^\s*assert ", body), "the check asserts nothing about the answer"
+
+
+OPEN = [(p.name, i, nb) for p in NOTEBOOKS for nb in [nbformat.read(p, as_version=4)]
+        for i, c in enumerate(nb.cells) if c.cell_type == "markdown" and "(Open.)" in c.source]
+
+
+def test_every_chapter_from_01_has_an_open_question():
+    chapters = {p.name for p in NOTEBOOKS if not p.name.startswith(("00", "9"))}
+    assert chapters <= {name for name, _, _ in OPEN}, chapters - {name for name, _, _ in OPEN}
+
+
+@pytest.mark.parametrize(("name", "index", "nb"), OPEN, ids=[f"{c[0]}:{c[1]}" for c in OPEN])
+def test_an_open_question_is_followed_by_a_collapsed_rubric_the_student_edition_drops(name, index, nb):
+    rubric = nb.cells[index + 1]
+    assert rubric.cell_type == "markdown" and RUBRIC_TAG in rubric.metadata.get("tags", []), "no rubric cell"
+    assert rubric.source.startswith("<details>") and rubric.source.rstrip().endswith("</details>"), "not collapsed"
+    points = re.findall(r"\*\*(\d+) points?\*\*", rubric.source)
+    assert len(points) >= 3, "a rubric lists at least three criteria with their points"
+    assert (rubric.source.count("(Open.)"), nb.cells[index].source.count("(Open.)")) == (0, 1), "one question per cell"
+    student = student_edition(nb)
+    assert not any(RUBRIC_TAG in c.metadata.get("tags", []) for c in student.cells)
+    assert not any("Rubric (for instructors" in c.source for c in student.cells)

@@ -5,8 +5,12 @@ the hidden solution (a code cell tagged ``solution``) and the check (the next co
 says "answer not set yet" for a missing answer and otherwise asserts that the answer is right,
 with a message that says what is wrong without giving the answer away).
 
-* :func:`student_edition` replaces each solution by an empty answer cell (tagged ``answer``) and
-  clears the outputs of the answer and check cells: the rest of the chapter keeps its outputs.
+* :func:`student_edition` replaces each solution by an empty answer cell (tagged ``answer``),
+  clears the outputs of the answer and check cells, and drops the grading rubrics: the rest of
+  the chapter keeps its outputs.
+* An open question is graded by hand: its statement is followed by a markdown cell tagged
+  ``rubric`` (criteria and points, inside a ``<details>`` element, so Jupyter and the instructor
+  book show it collapsed).
 * :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient; a failing cell
   does not stop the run) and reads each check's outcome: passed, or the assertion's message as
   feedback.
@@ -32,10 +36,10 @@ from pathlib import Path
 
 from quadlib.validation import as_positive
 
-__all__ = ["ANSWER_TAG", "SOLUTION_TAG", "Exercise", "Grade", "Mutation", "exercises", "grade_notebook",
+__all__ = ["ANSWER_TAG", "RUBRIC_TAG", "SOLUTION_TAG", "Exercise", "Grade", "Mutation", "exercises", "grade_notebook",
            "mutation_run", "student_edition"]
 
-SOLUTION_TAG, ANSWER_TAG = "solution", "answer"
+SOLUTION_TAG, ANSWER_TAG, RUBRIC_TAG = "solution", "answer", "rubric"
 _NAME = re.compile(r"`([A-Za-z_]\w*)[`(]")
 _PLACEHOLDER = re.compile(r"\b([A-Za-z_]\w*)\b(?=[^\n]* here\.)")
 
@@ -99,8 +103,9 @@ def exercises(nb) -> list[Exercise]:
 
 def student_edition(nb):
     """A copy of ``nb`` with each solution replaced by an answer cell to fill in (tagged
-    ``answer``), the outputs of answer and check cells cleared."""
+    ``answer``), the outputs of answer and check cells cleared, and the rubrics removed."""
     student = copy.deepcopy(_notebook(nb))
+    student.cells = [c for c in student.cells if RUBRIC_TAG not in c.get("metadata", {}).get("tags", [])]
     for ex in exercises(student):
         cell = student.cells[ex.answer]
         names = ", ".join(ex.answers) or "your answer"
