@@ -859,9 +859,9 @@ PROBES += [
           {"t": BAD["times"], "estimate": st.sampled_from([[0.0], "e", [INF, 0.0, 0.0]]), "target": FIN,
            "tolerance": POS, "t_start": FIN}),
     # teaching
-    Probe(kf_tuning_trial, lambda: dict(sigma_a=0.3, sigma_r=0.1, n_flights=2),
-          {"sigma_a": POS, "sigma_r": POS, "n_flights": st.sampled_from([1, 0, 2.5, True]), "seed": SEED_ARG,
-           "true_sigma_a": POS}),
+    Probe(kf_tuning_trial, lambda: dict(sigma_w=0.3, sigma_r=0.1, n_flights=2),
+          {"sigma_w": POS, "sigma_r": POS, "n_flights": st.sampled_from([1, 0, 2.5, True]), "seed": SEED_ARG,
+           "true_sigma_w": POS}),
     Probe(complementary_trial, lambda: dict(tau=1.0),
           {"tau": POS, "flight": st.sampled_from(["medium", 1, None]), "gyro_bias": st.sampled_from([1, "yes", None]),
            "seed": SEED_ARG}),

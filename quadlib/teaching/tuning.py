@@ -6,7 +6,7 @@ a slider. A chapter offers the sliders (:func:`tuning_sliders`, live only in Jup
 calls :func:`show_trial` once with fixed values, an output that the tests check and the book
 shows.
 
-* :func:`kf_tuning_trial` — the 1D quadrotor's Kalman filter with an assumed σ_a (Q) and σ_r (R)
+* :func:`kf_tuning_trial` — the 1D quadrotor's Kalman filter with an assumed σ_w (Q) and σ_r (R)
   over simulated flights: RMSE, and mean NEES / NIS against their χ² bands (chapters 03, 05).
 * :func:`complementary_trial` — the complementary filter's roll and pitch with a time constant
   τ on the square flights of chapter 07.
@@ -35,17 +35,17 @@ from quadlib.validation import as_count, as_positive, as_probability
 __all__ = ["ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
            "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
 
-KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_a [m/s²] and σ_r [m] (chapters 03 and 05)
+KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_w [m/s²] and σ_r [m] (chapters 03 and 05)
 
 
 @dataclass(frozen=True)
 class KfTuningTrial:
-    """The 1D quadrotor's KF with assumed ``sigma_a`` and ``sigma_r`` over ``n_flights`` flights:
+    """The 1D quadrotor's KF with assumed ``sigma_w`` and ``sigma_r`` over ``n_flights`` flights:
     the mean NEES at each time ``t`` and NIS at each range sample ``t_range``, their 95 % χ²
     ``nees_band`` and ``nis_band`` for that many flights, and the height RMSE after the first
     second, ``rmse_z`` [m]."""
 
-    sigma_a: float
+    sigma_w: float
     sigma_r: float
     n_flights: int
     t: np.ndarray
@@ -75,31 +75,31 @@ class KfTuningTrial:
         return "pessimistic" if self.anees < self.nees_band[0] else "consistent"
 
     def summary(self) -> str:
-        return (f"assumed σ_a = {self.sigma_a:.3g} m/s², σ_r = {self.sigma_r:.3g} m over {self.n_flights} flights: "
+        return (f"assumed σ_w = {self.sigma_w:.3g} m/s², σ_r = {self.sigma_r:.3g} m over {self.n_flights} flights: "
                 f"height RMSE {100 * self.rmse_z:.1f} cm; mean NEES {self.anees:.2f} (band {self.nees_band[0]:.2f}"
                 f"–{self.nees_band[1]:.2f}), mean NIS {self.anis:.2f} (band {self.nis_band[0]:.2f}–"
                 f"{self.nis_band[1]:.2f}): {self.verdict}")
 
 
-def kf_tuning_trial(sigma_a: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
-                    true_sigma_a: float = KF_TRUE_SIGMAS[0]) -> KfTuningTrial:
-    """Run the 1D quadrotor's KF assuming ``sigma_a`` [m/s²] and ``sigma_r`` [m] on ``n_flights``
+def kf_tuning_trial(sigma_w: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
+                    true_sigma_w: float = KF_TRUE_SIGMAS[0]) -> KfTuningTrial:
+    """Run the 1D quadrotor's KF assuming ``sigma_w`` [m/s²] and ``sigma_r`` [m] on ``n_flights``
     10 s flights (Δt = 0.02 s, 10 Hz range, the climb profile of chapters 03 and 05) simulated with
-    ``true_sigma_a`` and the true σ_r = 0.1 m, all starting from the filter's prior."""
-    sigma_a, sigma_r = as_positive("sigma_a", sigma_a), as_positive("sigma_r", sigma_r)
-    true_sigma_a = as_positive("true_sigma_a", true_sigma_a)
+    ``true_sigma_w`` and the true σ_r = 0.1 m, all starting from the filter's prior."""
+    sigma_w, sigma_r = as_positive("sigma_w", sigma_w), as_positive("sigma_r", sigma_r)
+    true_sigma_w = as_positive("true_sigma_w", true_sigma_w)
     n_flights, rng = as_count("n_flights", n_flights, 2), np.random.default_rng(as_count("seed", seed, 0))
     dt = 0.02
     t = np.arange(0.0, 10.0 + dt / 2, dt)
     u = climb_input(t)
     x0, P0 = np.array([0.0, 1.0]), np.diag([0.5**2, 0.5**2])
-    assumed = quad1d_model(sigma_a)
-    runs = run_monte_carlo({"KF": lambda a, b: LinearKF(assumed, a, b, dt)}, quad1d_model(true_sigma_a),
+    assumed = quad1d_model(sigma_w)
+    runs = run_monte_carlo({"KF": lambda a, b: LinearKF(assumed, a, b, dt)}, quad1d_model(true_sigma_w),
                            [quad1d_range_sensor(KF_TRUE_SIGMAS[1], rate_hz=10)], x0, P0, t, u, n_flights, rng,
                            assumed_sensors={"KF": [quad1d_range_sensor(sigma_r, rate_hz=10)]})["KF"]
     nis = runs.nis["range"]
     t_range = 0.1 * np.arange(nis.shape[1])  # the range samples, every 0.1 s from t = 0
-    return KfTuningTrial(sigma_a=sigma_a, sigma_r=sigma_r, n_flights=n_flights, t=t,
+    return KfTuningTrial(sigma_w=sigma_w, sigma_r=sigma_r, n_flights=n_flights, t=t,
                          mean_nees=runs.nees.mean(axis=0), t_range=t_range, mean_nis=nis.mean(axis=0),
                          nees_band=tuple(chi2_interval(2, n_flights)), nis_band=tuple(chi2_interval(1, n_flights)),
                          rmse_z=float(rmse(runs.errors[:, t > 1.0, 1].ravel())))
