@@ -2,12 +2,21 @@
 answer gets the check's feedback; and the student edition of every chapter, as shipped, fails
 every graded check with "answer not set yet"."""
 
+import copy
 from pathlib import Path
 
 import nbformat
 import pytest
 
-from quadlib.teaching.grading import ANSWER_TAG, SOLUTION_TAG, exercises, grade_notebook, mutation_run, student_edition
+from quadlib.teaching.grading import (
+    ANSWER_TAG,
+    RUBRIC_TAG,
+    SOLUTION_TAG,
+    exercises,
+    grade_notebook,
+    mutation_run,
+    student_edition,
+)
 
 NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
 CHAPTERS = sorted(p.name for p in NOTEBOOKS.glob("[0-9][0-9]_*.ipynb") if exercises(nbformat.read(p, as_version=4)))
@@ -17,9 +26,12 @@ def _chapter(name):
     return nbformat.read(NOTEBOOKS / name, as_version=4)
 
 
-def test_the_student_edition_removes_the_solutions_and_keeps_the_rest():
-    nb = _chapter("16_without_gps.ipynb")
-    student = student_edition(nb)
+def test_the_student_edition_removes_the_solutions_and_rubrics_and_keeps_the_rest():
+    full = _chapter("16_without_gps.ipynb")
+    student = student_edition(full)
+    nb = copy.deepcopy(full)  # the chapter without its rubrics, cell for cell the student edition's layout
+    nb.cells = [c for c in nb.cells if RUBRIC_TAG not in c.metadata.get("tags", [])]
+    assert len(nb.cells) < len(full.cells) and len(student.cells) == len(nb.cells), "the rubric was not dropped"
     found = exercises(nb)
     assert [e.answers for e in exercises(student)] == [e.answers for e in found]
     for ex in found:
@@ -31,7 +43,7 @@ def test_the_student_edition_removes_the_solutions_and_keeps_the_rest():
         assert student.cells[ex.check].outputs == [] and student.cells[ex.check].source == nb.cells[ex.check].source
     untouched = [i for i in range(len(nb.cells)) if i not in {i for e in found for i in (e.answer, e.check)}]
     assert all(student.cells[i] == nb.cells[i] for i in untouched)
-    assert nb.cells[found[0].answer].source == _chapter("16_without_gps.ipynb").cells[found[0].answer].source
+    assert full.cells[exercises(full)[0].answer].source == nb.cells[found[0].answer].source  # the input is unchanged
 
 
 def test_grading_passes_a_solution_fails_a_blank_and_explains_a_wrong_answer(tmp_path):
