@@ -5,7 +5,8 @@ quadlib's estimators were written for other sensors; each gets only what a user 
 new log — the Earth's field as the log's first second at rest shows it (:func:`field_at_rest`) and
 the log's units — and keeps its own noise values (Kesten's thesis, Salmony's document). The other
 libraries' outputs are turned into NED with the fixed rotation between the frames: VQF and ahrs
-Mahony return sensor → ENU, ahrs Madgwick sensor → NWU (x north, z up).
+Mahony return sensor → ENU, ahrs Madgwick sensor → NWU (x north, z up); their gyro input is each
+sample's rate over the interval before it, as they integrate it (:func:`_arrays`).
 """
 
 from __future__ import annotations
@@ -72,8 +73,12 @@ def _fixedwing(factory):
 
 
 def _arrays(log):
+    """The sample period and the three streams as VQF and ahrs read them: their step ``k`` turns by
+    ``gyr[k]`` first and then uses ``acc[k]``, so their ``gyr[k]`` is the rate over the interval that
+    ends at ``t[k]`` — the ImuLog's ``gyro[k − 1]`` (the first row repeats: nothing precedes it)."""
+    rates_before = np.vstack([log.gyro[:1], log.gyro[:-1]])
     return (float(np.median(log.dt)),) + tuple(np.ascontiguousarray(a, dtype=float)
-                                               for a in (log.gyro, log.accel, log.mag))
+                                               for a in (rates_before, log.accel, log.mag))
 
 
 def _vqf(kind):

@@ -12,8 +12,17 @@ Conversion (:func:`load_broad_trial`):
 * the sensor frame is BROAD's own sensor axes (the IMU has no "forward"): ``q_nb`` rotates
   sensor vectors into NED, and a sensor lying flat, z up, reads ``+g`` on z. On a vehicle, mount
   the IMU with its axes forward-right-down to get the FRD body frame of the other chapters;
-* the IMU streams are unchanged (they are in the sensor frame already); ground-truth rows where
-  the optical markers were hidden are NaN, as in the file.
+* the IMU streams stay in the sensor frame, in their units; ground-truth rows where the optical
+  markers were hidden are NaN, as in the file;
+* gyro timing: a BROAD gyro sample, like any IMU's output, describes the motion *before* its
+  timestamp — the sample at ``t[k]`` is the rate over ``(t[k−1], t[k]]`` (VQF, BROAD's reference
+  filter, integrates each gyro sample before it uses the accelerometer sample of the same time).
+  An :class:`~quadlib.imu.ImuLog` holds ``gyro[k]`` over ``[t[k], t[k+1])``, so the loader moves
+  every gyro sample one row earlier: ``gyro[k] = imu_gyr[k+1]``; the last row, the rate after the
+  log ends, is NaN. Kept where it was, each rate would be applied one sample late — a 4° lag at the
+  1200 °/s of the fast trials. (The optical truth agrees: integrated over ten samples, the moved
+  gyro matches its rotations 2.3× better than the unmoved one on the fast-rotation trial,
+  ``tests/data/test_broad.py``.)
 
 The benchmark's error metric is :func:`quadlib.analysis.broad_errors`.
 """
@@ -106,5 +115,6 @@ def load_broad_trial(trial: str | os.PathLike) -> BroadTrial:
     q_nb = quat_multiply(ENU_TO_NED, np.where(np.isnan(q_enu), 0.0, q_enu))
     q_nb[np.isnan(q_enu).any(axis=1)] = np.nan
     t = np.arange(n) / rate
+    gyr = np.vstack([gyr[1:], np.full((1, 3), np.nan)])  # rates over [t[k], t[k+1]): see the module's notes
     return BroadTrial(name=path.stem, log=ImuLog(t, gyr, acc, mag), q_nb=q_nb, movement=movement,
                       position_m=pos_enu @ c.T, info=info)

@@ -5,7 +5,7 @@ import pytest
 
 from quadlib.analysis.metrics import broad_errors
 from quadlib.data import DataCorruptError, DataNotFoundError, broad_trial_names, load_broad_trial
-from quadlib.geometry import quat_from_rotvec, quat_to_dcm
+from quadlib.geometry import quat_conjugate, quat_from_rotvec, quat_multiply, quat_to_dcm, quat_to_rotvec
 
 TRIAL = load_broad_trial("02_undisturbed_slow_rotation_B")
 
@@ -28,6 +28,27 @@ def test_the_truth_rotates_gravity_and_the_field_into_ned():
     assert 60.0 < np.degrees(np.arctan2(m_n[2], np.hypot(m_n[0], m_n[1]))) < 75.0  # Berlin's dip, downwards
     present = ~np.isnan(TRIAL.q_nb[:, 0])
     assert np.abs(np.linalg.norm(TRIAL.q_nb[present], axis=1) - 1).max() < 1e-6
+
+
+def _turn_mismatch_deg(trial, gyro, m=10):
+    """RMS [deg] of the truth's turn over ``[t[k], t[k+m]]`` minus ``Σ gyro[k..k+m−1] Δt``, over the
+    moving samples where both truth rows are there."""
+    q, dt = trial.q_nb, float(np.median(trial.log.dt))
+    k = np.arange(len(q) - m)
+    k = k[~np.isnan(q[k, 0]) & ~np.isnan(q[k + m, 0]) & trial.movement[k]]
+    turn = quat_to_rotvec(quat_multiply(quat_conjugate(q[k]), q[k + m]))
+    summed = np.cumsum(np.vstack([np.zeros(3), np.nan_to_num(gyro)]), axis=0) * dt
+    return float(np.degrees(np.sqrt(np.mean(np.sum((turn - (summed[k + m] - summed[k])) ** 2, axis=1)))))
+
+
+def test_each_gyro_row_holds_over_the_interval_after_its_time():
+    """The loader moves BROAD's gyro one row earlier (its sample at t[k] is the rate before t[k]);
+    the optical truth's turns then match the gyro's over each interval, the unmoved rows lag."""
+    fast = load_broad_trial("07_undisturbed_fast_rotation_B")
+    moved = _turn_mismatch_deg(fast, fast.log.gyro)
+    as_in_file = _turn_mismatch_deg(fast, np.vstack([fast.log.gyro[:1], fast.log.gyro[:-1]]))
+    assert moved < 0.5 * as_in_file
+    assert np.isnan(fast.log.gyro[-1]).all() and not np.isnan(fast.log.gyro[:-1]).any()
 
 
 def test_broad_errors_on_a_hand_made_case():
