@@ -15,6 +15,7 @@ without arguments), so a new public name must join one or the other.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 from dataclasses import dataclass, field
@@ -103,7 +104,7 @@ from quadlib.control import (
     riccati_gain,
     tilt_angle,
 )
-from quadlib.data import data_path, load_broad_trial, load_px4_log, load_ulog
+from quadlib.data import data_path, gyro_truth_mismatch_deg, load_broad_trial, load_px4_log, load_ulog
 from quadlib.fixedwing import (
     FixedWingNoise,
     FixedWingTuning,
@@ -343,6 +344,11 @@ def _ins_log():
 
 
 INS_GPS = Samples([0.0, 0.5], np.zeros((2, 6)))
+
+
+@functools.lru_cache(maxsize=1)
+def _broad_trial():
+    return load_broad_trial("02_undisturbed_slow_rotation_B")
 
 
 def _imu_log(n=100):
@@ -718,6 +724,9 @@ PROBES = [
           {"relative": st.sampled_from(["../../etc/passwd", "", None, 3.0, "/etc/passwd"])}),
     Probe(load_broad_trial, lambda: dict(trial="02_undisturbed_slow_rotation_B"),
           {"trial": st.sampled_from([None, 3.0, b"02"])}),
+    Probe(gyro_truth_mismatch_deg, lambda: dict(trial=_broad_trial()),
+          {"trial": st.sampled_from([None, "02_undisturbed_slow_rotation_B"]),
+           "shift": st.sampled_from([0.5, 1000, "1"]), "samples": COUNT}),
     Probe(load_px4_log, lambda: dict(log="px4/01_07_59.px4log"),
           {"log": st.sampled_from([None, 3.0, "px4/sample.ulg", "flight.bin"])}),
     Probe(load_ulog, lambda: dict(log="px4/sample.ulg"),

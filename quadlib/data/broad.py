@@ -37,10 +37,11 @@ from typing import NamedTuple
 import numpy as np
 
 from quadlib.data.paths import DataCorruptError, data_path
-from quadlib.geometry.quaternion import quat_multiply
+from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
 from quadlib.imu import ImuLog
+from quadlib.validation import as_count
 
-__all__ = ["ENU_TO_NED", "BroadTrial", "broad_trial_names", "load_broad_trial"]
+__all__ = ["ENU_TO_NED", "BroadTrial", "broad_trial_names", "gyro_truth_mismatch_deg", "load_broad_trial"]
 
 ENU_TO_NED = np.array([0.0, np.sqrt(0.5), np.sqrt(0.5), 0.0])
 """``q_C``: the rotation that takes ENU coordinates to NED (180° about the east-north bisector)."""
@@ -118,3 +119,29 @@ def load_broad_trial(trial: str | os.PathLike) -> BroadTrial:
     gyr = np.vstack([gyr[1:], np.full((1, 3), np.nan)])  # rates over [t[k], t[k+1]): see the module's notes
     return BroadTrial(name=path.stem, log=ImuLog(t, gyr, acc, mag), q_nb=q_nb, movement=movement,
                       position_m=pos_enu @ c.T, info=info)
+
+
+def gyro_truth_mismatch_deg(trial: BroadTrial, shift: int = 0, samples: int = 10) -> float:
+    """How well the gyro's timing agrees with the optical truth [deg, RMS].
+
+    For every scored sample ``k`` where both truth rows are there, the truth's turn over
+    ``[t[k], t[k+samples]]`` (a rotation vector, in the sensor frame) is compared with the gyro's,
+    ``Σ gyro[k+shift .. k+shift+samples−1] Δt``. ``shift = 0`` is the loader's timing (``gyro[k]``
+    over ``[t[k], t[k+1])``); ``shift = −1`` uses each rate one sample late, as the file's rows
+    would be; ``shift = 1`` one sample early. Over ten samples the gyro's noise averages out and
+    what remains is mostly timing (and the truth's own noise).
+    """
+    if not isinstance(trial, BroadTrial):
+        raise TypeError(f"trial: expected a BroadTrial, got {type(trial).__name__}")
+    if isinstance(shift, bool) or not isinstance(shift, (int, np.integer)) or abs(shift) > 100:
+        raise ValueError(f"shift: expected an int between -100 and 100, got {shift!r}")
+    m = as_count("samples", samples)
+    q, dt, n = trial.q_nb, float(np.median(trial.log.dt)), len(trial.log)
+    k = np.arange(max(0, -shift), n - m - max(0, shift))
+    k = k[~np.isnan(q[k, 0]) & ~np.isnan(q[k + m, 0]) & trial.movement[k]]
+    if k.size == 0:
+        raise ValueError(f"trial: expected scored samples with truth {m} samples apart, got none")
+    turn = quat_to_rotvec(quat_multiply(quat_conjugate(q[k]), q[k + m]))
+    summed = np.cumsum(np.vstack([np.zeros(3), np.nan_to_num(trial.log.gyro)]), axis=0) * dt
+    gyro_turn = summed[k + shift + m] - summed[k + shift]
+    return float(np.degrees(np.sqrt(np.mean(np.sum((turn - gyro_turn) ** 2, axis=1)))))

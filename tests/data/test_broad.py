@@ -4,8 +4,16 @@ import numpy as np
 import pytest
 
 from quadlib.analysis.metrics import broad_errors
-from quadlib.data import DataCorruptError, DataNotFoundError, broad_trial_names, load_broad_trial
-from quadlib.geometry import quat_conjugate, quat_from_rotvec, quat_multiply, quat_to_dcm, quat_to_rotvec
+from quadlib.data import (
+    BroadTrial,
+    DataCorruptError,
+    DataNotFoundError,
+    broad_trial_names,
+    gyro_truth_mismatch_deg,
+    load_broad_trial,
+)
+from quadlib.geometry import quat_from_rotvec, quat_multiply, quat_to_dcm
+from quadlib.imu import ImuLog
 
 TRIAL = load_broad_trial("02_undisturbed_slow_rotation_B")
 
@@ -30,25 +38,33 @@ def test_the_truth_rotates_gravity_and_the_field_into_ned():
     assert np.abs(np.linalg.norm(TRIAL.q_nb[present], axis=1) - 1).max() < 1e-6
 
 
-def _turn_mismatch_deg(trial, gyro, m=10):
-    """RMS [deg] of the truth's turn over ``[t[k], t[k+m]]`` minus ``Σ gyro[k..k+m−1] Δt``, over the
-    moving samples where both truth rows are there."""
-    q, dt = trial.q_nb, float(np.median(trial.log.dt))
-    k = np.arange(len(q) - m)
-    k = k[~np.isnan(q[k, 0]) & ~np.isnan(q[k + m, 0]) & trial.movement[k]]
-    turn = quat_to_rotvec(quat_multiply(quat_conjugate(q[k]), q[k + m]))
-    summed = np.cumsum(np.vstack([np.zeros(3), np.nan_to_num(gyro)]), axis=0) * dt
-    return float(np.degrees(np.sqrt(np.mean(np.sum((turn - (summed[k + m] - summed[k])) ** 2, axis=1)))))
-
-
 def test_each_gyro_row_holds_over_the_interval_after_its_time():
     """The loader moves BROAD's gyro one row earlier (its sample at t[k] is the rate before t[k]);
     the optical truth's turns then match the gyro's over each interval, the unmoved rows lag."""
     fast = load_broad_trial("07_undisturbed_fast_rotation_B")
-    moved = _turn_mismatch_deg(fast, fast.log.gyro)
-    as_in_file = _turn_mismatch_deg(fast, np.vstack([fast.log.gyro[:1], fast.log.gyro[:-1]]))
-    assert moved < 0.5 * as_in_file
+    as_loaded, as_in_file = gyro_truth_mismatch_deg(fast), gyro_truth_mismatch_deg(fast, shift=-1)
+    assert as_loaded < 0.5 * as_in_file
     assert np.isnan(fast.log.gyro[-1]).all() and not np.isnan(fast.log.gyro[:-1]).any()
+    with pytest.raises(TypeError, match="trial: expected a BroadTrial, got ImuLog"):
+        gyro_truth_mismatch_deg(fast.log)
+
+
+def test_the_timing_mismatch_of_a_known_lag():
+    """A truth built from the gyro itself (one constant turn rate) matches at shift 0 exactly and
+    is off by one sample's turn per ten samples at shift ±1."""
+    n, dt, rate = 400, 0.01, np.array([0.0, 0.0, 1.0])
+    t = np.arange(n) * dt
+    gyro = np.tile(rate, (n, 1))
+    gyro[n // 2:] *= -1.0  # a reversal, so a one-sample shift shows at the turn
+    q = np.zeros((n, 4))
+    q[0] = [1.0, 0.0, 0.0, 0.0]
+    for k in range(n - 1):
+        q[k + 1] = quat_multiply(q[k], quat_from_rotvec(gyro[k] * dt))
+    trial = BroadTrial("made", ImuLog(t, gyro, gyro, None), q, np.ones(n, bool), np.zeros((n, 3)), {})
+    assert gyro_truth_mismatch_deg(trial) == pytest.approx(0.0, abs=1e-9)
+    # across the reversal, one sample's turn in the sum has the wrong sign: 2 · 1 rad/s · 0.01 s
+    mismatch = gyro_truth_mismatch_deg(trial, shift=1)
+    assert mismatch == pytest.approx(np.degrees(2 * dt) * np.sqrt(10 / (n - 10 - 1)), rel=1e-6)
 
 
 def test_broad_errors_on_a_hand_made_case():
