@@ -14,6 +14,7 @@ $(STAMP): environment.txt pyproject.toml
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -r environment.txt
 	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
+	$(BIN)/python scripts/compile_loops.py
 	@touch $(STAMP)
 
 book: $(STAMP)

@@ -88,7 +88,7 @@ class FilterRun:
         return np.sqrt(np.clip(np.diagonal(self.P, axis1=1, axis2=2), 0.0, None))
 
 
-def _held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
+def held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Inputs with NaN rows replaced by the previous row, and which rows were."""
     if u is None or model.dim_u == 0:
         return model.check_inputs(u, n), np.zeros(n, bool)
@@ -138,7 +138,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     t = as_times("t", t)
     N = t.shape[0]
     model = filt.model
-    u, held = _held_inputs(model, u, N)
+    u, held = held_inputs(model, u, N)
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
     try:
@@ -270,7 +270,7 @@ def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
     if run.x.shape[1:] != (model.dim_x,) or run.P.shape[1:] != (model.dim_P, model.dim_P):
         raise ValueError(f"run: expected states of {model.dim_x} and covariances of {model.dim_P}² for model "
                          f"{model.name!r}, got {run.x.shape[1:]} and {run.P.shape[1:]}")
-    u, _ = _held_inputs(model, u, N)
+    u, _ = held_inputs(model, u, N)
     add = model.state_add if model.is_error_state else np.add
     diff = model.residual_x if model.is_error_state else np.subtract
     xs, Ps = run.x.copy(), run.P.copy()

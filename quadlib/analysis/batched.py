@@ -22,7 +22,7 @@ import numpy as np
 from quadlib.filters import LinearKF
 from quadlib.model import Sensor
 from quadlib.model_filter import group_gates
-from quadlib.replay import _held_inputs
+from quadlib.replay import held_inputs
 from quadlib.samples import Measurements, time_resolution
 
 __all__ = ["batch_supported", "run_linear_batch"]
@@ -64,7 +64,7 @@ def run_linear_batch(filt: LinearKF, x0s, t, u, measurements: Sequence[Sequence[
     t = np.asarray(t, dtype=float)
     x = np.array(x0s, dtype=float)
     M, N, n = x.shape[0], t.size, model.dim_x
-    u, _ = _held_inputs(model, u, N)
+    u, _ = held_inputs(model, u, N)
     P = np.broadcast_to(filt._P0, (M, n, n)).copy()
     first = measurements[0]
     grid = time_resolution(t)

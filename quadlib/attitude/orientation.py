@@ -23,6 +23,7 @@ import numpy as np
 
 from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
+from quadlib.attitude.orientation_loop import calm_samples, inertial_lowpass_pass, mekf_pass, rts_pass
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
@@ -31,8 +32,9 @@ from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream
 from quadlib.model import Sensor
-from quadlib.replay import FilterRun, rts_smooth, run_filter
-from quadlib.samples import Measurements
+from quadlib.model_filter import gate_threshold
+from quadlib.replay import FilterRun, SensorTrace, held_inputs, rts_smooth, run_filter
+from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
@@ -216,18 +218,7 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     gyro_th, accel_th = as_positive("gyro_rad_s", gyro_rad_s), as_positive("accel_m_s2", accel_m_s2)
     min_s, tau = as_positive("min_s", min_s), as_positive("tau_s", tau_s)
-    calm = np.zeros(len(log), bool)
-    lp_g = lp_a = None
-    for k in range(len(log)):
-        g, a = log.gyro[k], log.accel[k]
-        if np.isnan(g).any() or np.isnan(a).any():
-            continue
-        if lp_g is None:
-            lp_g, lp_a = g.copy(), a.copy()
-        else:
-            w = (log.t[k] - log.t[k - 1]) / (tau + log.t[k] - log.t[k - 1])
-            lp_g, lp_a = lp_g + w * (g - lp_g), lp_a + w * (a - lp_a)
-        calm[k] = np.linalg.norm(g - lp_g) < gyro_th and np.linalg.norm(a - lp_a) < accel_th
+    calm = calm_samples(log.t, log.gyro, log.accel, gyro_th, accel_th, tau)
     rest = np.zeros_like(calm)
     since = None
     for k in range(len(log)):
@@ -260,34 +251,13 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: floa
     usable = ~np.isnan(log.accel).any(axis=1)
     if shock is not None:
         usable &= np.abs(np.linalg.norm(np.nan_to_num(log.accel), axis=1) - G0) <= shock
-    forward = _lowpass_pass(log.t, gyro, log.accel, usable, tau, range(len(log)))
+    gyro = np.ascontiguousarray(gyro, dtype=float)
+    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, tau, False)
     if not two_sided:
         return forward
-    backward = _lowpass_pass(log.t, gyro, log.accel, usable, tau, range(len(log) - 1, -1, -1))
+    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, tau, True)
     both = 0.5 * (forward + backward)
     return np.where(np.isnan(forward), backward, np.where(np.isnan(backward), forward, both))
-
-
-def _lowpass_pass(t, gyro, accel, usable, tau, order) -> np.ndarray:
-    """One direction of :func:`inertial_lowpass`: ``order`` runs over the sample indices forwards
-    or backwards; the frame is integrated from the gyro over each step either way."""
-    out = np.full_like(accel, np.nan)
-    q = np.array([1.0, 0.0, 0.0, 0.0])
-    mean, previous = None, None
-    for k in order:
-        if previous is not None:  # turn the frame from the previous sample to this one
-            step = t[k] - t[previous]
-            rate = gyro[previous] if step > 0 else -gyro[k]
-            q = kernels.multiply(q, kernels.exp_rotvec(rate * abs(step)))
-        R = kernels.dcm(q)
-        if usable[k]:
-            a_i = R @ accel[k]
-            dt = abs(t[k] - t[previous]) if previous is not None else 0.0
-            mean = a_i if mean is None else mean + dt / (tau + dt) * (a_i - mean)
-        if mean is not None:
-            out[k] = R.T @ mean
-        previous = k
-    return out
 
 
 def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationParams | None = None, *,
@@ -326,32 +296,45 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
 
 
 def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams(), *, offline: bool = False,
-                    declination_rad: float = 0.0) -> FilterRun:
+                    declination_rad: float = 0.0, compiled: bool = True) -> FilterRun:
     """The filter run behind :func:`estimate_orientation`: ``run.x`` is ``[q_nb, b]`` per sample
     (attitude and gyro bias [rad/s]), ``run.P`` the covariance of ``[δθ, δb]``, ``run.sensors`` what
     each update did (the forward pass's, also when ``offline``).
 
     Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
+    ``compiled=False`` runs the readable filter, :class:`~quadlib.ModelEKF` driven by
+    :func:`~quadlib.replay.run_filter` (and :func:`~quadlib.replay.rts_smooth` offline); the default
+    runs the same steps compiled (:mod:`~quadlib.attitude.orientation_loop`; equal to 1e-10, tested),
+    and falls back to the readable one for a log whose timestamps repeat within their precision.
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
-    if not isinstance(offline, bool):
-        raise TypeError(f"offline: expected True or False, got {offline!r}")
+    for name, flag in (("offline", offline), ("compiled", compiled)):
+        if not isinstance(flag, bool):
+            raise TypeError(f"{name}: expected True or False, got {flag!r}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
+    compiled = compiled and not (np.diff(log.t) <= time_resolution(log.t)).any()
     if params.accel_tau_s is None:
-        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline)
+        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, compiled)
     else:
         tau, shock = params.accel_tau_s, params.accel_shock_m_s2
         raw_gravity = inertial_lowpass(log, tau, shock_m_s2=shock)
-        first, _ = _orientation_pass(log, params, declination_rad, raw_gravity, offline)
+        first, _ = _orientation_pass(log, params, declination_rad, raw_gravity, offline, compiled)
         gravity = inertial_lowpass(log, tau, first.x[:, 4:], shock, two_sided=offline)
-        run, model = _orientation_pass(log, params, declination_rad, gravity, offline)
-    return rts_smooth(model, run, log.gyro) if offline else run
+        run, model = _orientation_pass(log, params, declination_rad, gravity, offline, compiled)
+    if not offline:
+        return run
+    if not compiled:
+        return rts_smooth(model, run, log.gyro)
+    x, P = rts_pass(log.t, held_inputs(model, log.gyro, len(log))[0], run.x, run.P, params.gyro_sigma_rad_s,
+                    params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s or 0.0)
+    return FilterRun(t=run.t, x=x, P=P, sensors=run.sensors, held_input=run.held_input)
 
 
-def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool):
+def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool,
+                      compiled: bool):
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     field_n = None
@@ -379,4 +362,41 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)
         measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
                                          np.where(rest[:, None], log.gyro, np.nan)))
+    if compiled:
+        run = _compiled_run(ekf, log, measurements, params, offline)
+        if run is not None:
+            return run, model
     return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability), model
+
+
+def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list, params: OrientationParams,
+                  offline: bool) -> FilterRun | None:
+    """What ``run_filter(ekf, log.t, log.gyro, measurements, params.gate_probability)`` returns, from
+    :func:`~quadlib.attitude.orientation_loop.mekf_pass`; None if the estimate became non-finite
+    (the readable loop then names where)."""
+    n = len(log)
+    gyro, held = held_inputs(ekf.model, log.gyro, n)
+    by_name = {m.sensor.name: m for m in measurements}
+    gravity, heading, zero_rate = (by_name.get(name) for name in ("gravity", "heading", "zero rate"))
+    nan3 = np.full((n, 3), np.nan)
+    p = params.gate_probability
+
+    def gate(dim):
+        return 0.0 if p is None else gate_threshold(dim, p)
+
+    xs, Ps, *traces, nis, used, rejected = mekf_pass(
+        log.t, gyro, np.ascontiguousarray(gravity.z), nan3[:, 0] if heading is None else heading.z[:, 0].copy(),
+        nan3 if heading is None else np.ascontiguousarray(heading.context),
+        nan3 if zero_rate is None else np.ascontiguousarray(zero_rate.z), ekf.nominal, ekf.P, ekf.dt,
+        params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gravity_sigma_m_s2**2,
+        params.heading_sigma_rad**2, params.gyro_sigma_rad_s**2, gate(3), gate(1), gate(3),
+        params.gyro_range_rad_s or 0.0, 6 if offline else 3, -GRAVITY_N)
+    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
+        return None
+    sensors = {}
+    for i, (m, (innovation, S)) in enumerate(zip((gravity, heading, zero_rate), traces, strict=True)):
+        if m is not None:
+            none = np.zeros(n, bool)
+            sensors[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis[i], used=used[i],
+                                                 rejected=rejected[i], reset=none, missing=m.missing, duplicate=none)
+    return FilterRun(t=log.t, x=xs, P=Ps, sensors=sensors, held_input=held)

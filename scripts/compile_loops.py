@@ -1,0 +1,30 @@
+"""Compile quadlib's numba loops once, so that no test worker or chapter pays for it.
+
+numba compiles a loop on its first call and caches the machine code next to its source
+(``__pycache__``); later processes load it in a fraction of a second. ``make`` runs this script
+after installing, so the first test or chapter finds the cache ready.
+"""
+
+import time
+
+import numpy as np
+
+from quadlib.attitude.orientation import estimate_orientation
+from quadlib.attitude.tumble import random_rotation
+from quadlib.constants import earth_field_ned
+from quadlib.imu import ImuNoise
+from quadlib.sim.imu import imu_samples
+
+
+def main() -> None:
+    start = time.perf_counter()
+    motion = random_rotation(3.0, 100.0, np.random.default_rng(0))
+    log = imu_samples(motion, ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3),
+                      np.random.default_rng(1), field_n=earth_field_ned(50.0, np.radians(65.0)))
+    for offline in (False, True):  # every loop: rest, both low-passes, the forward pass, the backward pass
+        estimate_orientation(log, offline=offline)
+    print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
