@@ -1,4 +1,5 @@
-"""Cost per filter step of every estimator the project has, each driven by ``run_filter``.
+"""Cost per filter step of every estimator the project has, each driven by ``run_filter`` (the
+orientation MEKF also compiled, :mod:`quadlib.attitude.orientation_loop`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,
@@ -14,6 +15,7 @@ import numpy as np
 from quadlib import LinearKF, Measurements, ModelEKF, ModelUKF, run_filter
 from quadlib.attitude import FILTERS, AttitudeNoise, altitude_model, baro_altitude_sensor, random_rotation
 from quadlib.attitude.kesten import run_attitude_filter
+from quadlib.attitude.orientation import orientation_run
 from quadlib.data import load_px4_log
 from quadlib.fixedwing import (
     FixedWingNoise,
@@ -53,6 +55,10 @@ def main() -> None:
     for name, make in FILTERS.items():
         rows.append((f"Kesten {name} (250 Hz, a + m every step)",
                      best_us_per_step(lambda make=make: run_attitude_filter(make(noise), log), len(log))))
+    # the whole estimate (two forward passes and the low-passes between them), per sample
+    for label, compiled in (("compiled", True), ("readable run_filter", False)):
+        rows.append((f"orientation MEKF, {label} (same log)",
+                     best_us_per_step(lambda c=compiled: orientation_run(log, compiled=c), len(log))))
 
     fw_noise = FixedWingNoise()
     fw = fixedwing_samples(fixedwing_flight(rate_hz=50.0), fw_noise, np.random.default_rng(3))
