@@ -12,10 +12,7 @@ import numpy as np
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
     integrate_body_rate,
-    quat_conjugate,
-    quat_multiply,
     quat_normalize,
-    quat_to_rotvec,
 )
 from quadlib.imu import gyro_saturation_noise
 from quadlib.model import Model
@@ -99,7 +96,7 @@ def _add_error(x, e):
 
 
 def _error_between(x1, x0):
-    return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(x0[:4]), x1[:4])), x1[4:] - x0[4:]])
+    return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(x0[:4]), x1[:4])), x1[4:] - x0[4:]])
 
 
 def _add_jacobian(x):

@@ -39,6 +39,7 @@ Differs from the source, each time for a reason given in the errata (chapter 10)
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -50,10 +51,7 @@ from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
-    integrate_body_rate,
-    quat_conjugate,
     quat_from_rotvec,
-    quat_multiply,
     quat_normalize,
     quat_to_rotvec,
 )
@@ -190,7 +188,7 @@ def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
     """``q ← q ⊗ exp(ω Δt)`` on the 4 components, process noise ``(σ_ω Δt/2)² I₄``."""
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
                  g=_gyro_step, G=lambda x, u, dt: np.eye(4),
-                 Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=quat_normalize,
+                 Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=kernels.normalize,
                  input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
 
 
@@ -204,26 +202,35 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
         return q
 
     def residual_x(q1, q0):  # one right inverse of state_add: the whole turn in the first block
-        return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(q0), q1)), np.zeros(3 * blocks - 3)])
+        return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(q0), q1)), np.zeros(3 * blocks - 3)])
 
     names = tuple(f"dtheta{i}_{axis}" for i in range(1, blocks + 1) for axis in "xyz")
     n = 3 * blocks
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"), error_names=names,
                  g=_gyro_step, G=lambda x, u, dt: np.eye(n),
                  Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(n), state_add=state_add, residual_x=residual_x,
-                 normalize=quat_normalize, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
+                 normalize=kernels.normalize, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
                  name="gyro-driven rotation error")
+
+
+def _rotvec_difference(z, z_hat) -> np.ndarray:
+    """The turn from the attitude ``exp(ẑ)`` to ``exp(z)`` as a rotation vector (``z``, ``ẑ`` are rotation vectors)."""
+    return kernels.rotvec(kernels.multiply(kernels.conjugate(kernels.exp_rotvec(z_hat)), kernels.exp_rotvec(z)))
 
 
 def _turn_between(z, z_hat) -> np.ndarray:
     """The rotation vector that turns the measured direction ``z`` onto the predicted ``z_hat``
-    (eqs. 2.61, 2.63): axis ``z × ẑ``, angle between them."""
-    a, b = z / np.linalg.norm(z), z_hat / np.linalg.norm(z_hat)
-    axis = np.cross(a, b)
-    s = np.linalg.norm(axis)
+    (eqs. 2.61, 2.63): axis ``z × ẑ``, angle between them. Written with floats: it runs once per sample."""
+    ax, ay, az = z.tolist()
+    bx, by, bz = z_hat.tolist()
+    na, nb = math.sqrt(ax * ax + ay * ay + az * az), math.sqrt(bx * bx + by * by + bz * bz)
+    ax, ay, az, bx, by, bz = ax / na, ay / na, az / na, bx / nb, by / nb, bz / nb
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    s = math.sqrt(cx * cx + cy * cy + cz * cz)
     if s < 1e-12:
         return np.zeros(3)
-    return axis / s * np.arccos(np.clip(a @ b, -1.0, 1.0))
+    angle = math.acos(min(1.0, max(-1.0, ax * bx + ay * by + az * bz)))
+    return np.array([cx / s, cy / s, cz / s]) * angle
 
 
 def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -231,7 +238,7 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Truncated orientation-vector Kalman filter: state θ, H = I₃, Φ = I₃ (eqs. 2.26–2.35)."""
     s0 = _checked(noise, sigma0_rad, checks)
     model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
-                  g=lambda x, u, dt: quat_to_rotvec(integrate_body_rate(quat_from_rotvec(x), u, dt)),
+                  g=lambda x, u, dt: kernels.rotvec(_gyro_step(kernels.exp_rotvec(x), u, dt)),
                   G=lambda x, u, dt: np.eye(3), Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(3),
                   input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * 3), name="orientation vector")
 
@@ -264,10 +271,9 @@ def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Truncated quaternion filter: a scalar-gain step along the geodesic toward the measured
     attitude (eqs. 2.44–2.48), as an error-state EKF with covariance ``p I₃``."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=quat_to_rotvec,
+    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=kernels.rotvec,
                     H=lambda q: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
-                    residual=lambda z, z_hat: quat_to_rotvec(quat_multiply(quat_conjugate(quat_from_rotvec(z_hat)),
-                                                                           quat_from_rotvec(z))))
+                    residual=_rotvec_difference)
     return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,),
                         lambda log: _measured_rotvec(log, noise, checks))
 

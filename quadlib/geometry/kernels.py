@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-__all__ = ["body_vector_jacobian", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "multiply", "normalize",
-           "rate_matrix", "skew"]
+__all__ = ["body_vector_jacobian", "conjugate", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "multiply",
+           "normalize", "rate_matrix", "rotvec", "skew"]
 
 
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -32,6 +32,23 @@ def exp_rotvec(v: np.ndarray) -> np.ndarray:
     angle = math.sqrt(x * x + y * y + z * z)
     half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
     return np.array([math.cos(0.5 * angle), half_sinc * x, half_sinc * y, half_sinc * z])
+
+
+def rotvec(q: np.ndarray) -> np.ndarray:
+    """The rotation vector of a unit ``q``, angle in [0, π] (:func:`~quadlib.geometry.quaternion.quat_to_rotvec`)."""
+    w, x, y, z = q.tolist()
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    s = math.sqrt(x * x + y * y + z * z)
+    angle = 2.0 * math.atan2(s, w)
+    scale = angle / s if s > 1e-8 else 2.0 + angle * angle / 12.0
+    return np.array([scale * x, scale * y, scale * z])
+
+
+def conjugate(q: np.ndarray) -> np.ndarray:
+    """``q*``, the inverse rotation of a unit ``q`` (:func:`~quadlib.geometry.quaternion.quat_conjugate`)."""
+    w, x, y, z = q.tolist()
+    return np.array([w, -x, -y, -z])
 
 
 def dcm(q: np.ndarray) -> np.ndarray:

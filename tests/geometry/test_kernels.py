@@ -5,11 +5,13 @@ import numpy as np
 from quadlib.attitude.bias_model import quaternion_rate_matrix
 from quadlib.geometry import euler_to_dcm, kernels
 from quadlib.geometry.quaternion import (
+    quat_conjugate,
     quat_from_dcm,
     quat_from_rotvec,
     quat_multiply,
     quat_normalize,
     quat_to_dcm,
+    quat_to_rotvec,
     vector_jacobian,
 )
 
@@ -24,6 +26,10 @@ def test_each_kernel_equals_its_checked_namesake():
         np.testing.assert_allclose(kernels.normalize(q), quat_normalize(q), rtol=0, atol=1e-15)
         u = quat_normalize(q)
         np.testing.assert_allclose(kernels.dcm(u), quat_to_dcm(u), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.rotvec(u), quat_to_rotvec(u), rtol=0, atol=1e-15)
+        np.testing.assert_allclose(kernels.rotvec(kernels.exp_rotvec(v)), quat_to_rotvec(quat_from_rotvec(v)), rtol=0,
+                                   atol=1e-15)
+        np.testing.assert_array_equal(kernels.conjugate(q), quat_conjugate(q))
         np.testing.assert_allclose(kernels.from_dcm(quat_to_dcm(u)), quat_from_dcm(quat_to_dcm(u)), rtol=0, atol=1e-15)
         np.testing.assert_allclose(kernels.euler_dcm(*v), euler_to_dcm(*v), rtol=0, atol=1e-15)
         np.testing.assert_allclose(kernels.skew(v) @ q[1:], np.cross(v, q[1:]), rtol=0, atol=1e-15)
