@@ -478,7 +478,7 @@ PROBES = [
     Probe(zero_rate_sensor, lambda: dict(sigma_rad_s=0.005), {"sigma_rad_s": BAD["positive"]}),
     Probe(orientation_run, lambda: dict(log=_imu_log(), params=OrientationParams()),
           {"log": WRONG_TYPE, "params": _wrong_type(OrientationParams), "offline": WRONG_TYPE,
-           "declination_rad": BAD["finite"]}),
+           "declination_rad": BAD["finite"], "compiled": WRONG_TYPE}),
     Probe(estimate_fixedwing_attitude,
           lambda: dict(log=fixedwing_samples(fixedwing_flight(rate_hz=10.0), FixedWingNoise(),
                                              np.random.default_rng(0)).slice(0, 60), noise=FixedWingNoise()),
