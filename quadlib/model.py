@@ -234,6 +234,10 @@ class Sensor:
         of the gain are zero (a "consider" or Schmidt update), and the Joseph form keeps the
         covariance exact for that gain. A magnetometer that should correct the heading but
         never the gyro bias. Supported by :class:`~quadlib.ModelEKF`.
+    gated : bool
+        False: :func:`~quadlib.replay.run_filter`'s χ² gate never tests this sensor. For a
+        measurement that cannot jump — an average over seconds — the gate can only refuse it
+        after the estimate has drifted away, which is when it is needed most.
     """
 
     name: str
@@ -249,6 +253,7 @@ class Sensor:
     reset_after_s: float | None = None
     stuck_samples: int | None = None
     uncorrected: tuple[int, ...] = ()
+    gated: bool = True
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -286,6 +291,8 @@ class Sensor:
             raise ValueError(f"Sensor({self.name!r}).uncorrected: expected distinct state indices >= 0, "
                              f"got {self.uncorrected!r}")
         object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
+        if not isinstance(self.gated, bool):
+            raise TypeError(f"Sensor({self.name!r}).gated: expected True or False, got {self.gated!r}")
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

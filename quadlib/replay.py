@@ -13,7 +13,8 @@ Bad data is handled, and counted, rather than fatal:
 * a missing sample is a row of NaN (in ``z`` or in its context): it is skipped (a dropout);
 * a row of NaN in ``u`` holds the previous input (zero-order hold) and is flagged in the result;
 * a sample whose timestamp repeats the one before it is dropped (it would be fused twice);
-* with ``gate_probability`` set, each of a sensor's measurement groups is gated on its own NIS;
+* with ``gate_probability`` set, each of a sensor's measurement groups is gated on its own NIS
+  (sensors with ``gated=False`` excepted);
   a group rejected for longer than the sensor's ``reset_after_s`` is reset (its covariance is
   widened to the discrepancy, :meth:`~quadlib.model_filter.ModelFilter.inflate_toward`) and used
   again — a gate that would otherwise lock the sensor out for good.
@@ -169,7 +170,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
         miss = m.missing & ~dup
         missing.append(miss)
         duplicate.append(dup)
-        gates = None if gate_probability is None else group_gates(m.sensor, gate_probability)
+        gates = None if gate_probability is None or not m.sensor.gated else group_gates(m.sensor, gate_probability)
         for j in np.flatnonzero(~miss & ~dup):
             c = None if m.context is None else m.context[j]
             schedule.setdefault(int(steps[j]), []).append((i, int(j), m.sensor, m.z[j], gates, c))

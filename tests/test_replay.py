@@ -1,4 +1,5 @@
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -60,6 +61,22 @@ def test_gate_counts_outliers(scenario):
     err_gated = np.sqrt(np.mean((gated.x[:, 0] - x[:, 0]) ** 2))
     err_plain = np.sqrt(np.mean((plain.x[:, 0] - x[:, 0]) ** 2))
     assert err_gated < 0.8 * err_plain
+
+
+def test_an_ungated_sensor_is_never_rejected(scenario):
+    """Sensor.gated=False: the gate leaves that sensor alone, outliers and all (run_filter gates the others)."""
+    model, sensor, t, u, x, meas, rng = scenario
+    z = meas.z.copy()
+    z[50] += 3.0  # 10 sigma: the gate refuses it when it may
+    results = {}
+    for gated in (True, False):
+        m = Measurements(replace(sensor, gated=gated), meas.t, z)
+        results[gated] = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [m], gate_probability=0.999)
+    assert results[True].sensors["range"].rejected[50]
+    trace = results[False].sensors["range"]
+    assert not trace.rejected.any() and trace.used.all() and trace.nis[50] > 50
+    with pytest.raises(TypeError, match="gated: expected True or False, got 1"):
+        replace(sensor, gated=1)
 
 
 def test_samples_apply_at_first_step_at_or_after_their_time():

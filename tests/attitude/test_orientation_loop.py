@@ -80,6 +80,8 @@ def test_the_cases_reach_every_branch():
         trace = simulated.sensors[name]
         assert trace.rejected.sum() > 5 and trace.missing.sum() > 50, name
     assert simulated.held_input.sum() > 50
+    low_passed = orientation_run(SIMULATED, OrientationParams(gate_probability=0.9, gravity_sigma_m_s2=0.2))
+    assert not low_passed.sensors["gravity"].rejected.any()  # the averaged gravity is never gated
     assert (np.abs(SIMULATED.gyro) >= 0.999 * GYRO_RANGE).any(axis=1).sum() > 20  # saturated steps
 
 
