@@ -140,6 +140,15 @@ def _update(P, H, y, R, uncorrected_from, gate):
 
 
 @njit(cache=True)
+def _add_jacobian(q):
+    """``∂(x ⊞ δx)/∂δx`` at 0, ``(7, 6)``: ``½ Ξ(q)`` for the quaternion, the identity for the bias."""
+    J = np.zeros((7, 6))
+    J[:4, :3] = 0.5 * _rate_matrix(q)
+    J[4:, 3:] = np.eye(3)
+    return J
+
+
+@njit(cache=True)
 def _fold(q, b, e):
     """The error into the state, ``q ⊗ exp(δθ)`` (normalised) and ``b + δb``."""
     if e[0] != 0.0 or e[1] != 0.0 or e[2] != 0.0 or e[3] != 0.0 or e[4] != 0.0 or e[5] != 0.0:
@@ -152,8 +161,9 @@ def _fold(q, b, e):
 def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P0, dt0, sg, sb, gravity_var,
               heading_var, zero_rate_var, gravity_gate, heading_gate, zero_rate_gate, gyro_range,
               heading_uncorrected_from, up):
-    """The forward pass. NaN rows of the ``*_z`` arrays (or of ``heading_context``) are missing
-    samples; a gate ``≤ 0`` means no gate; ``gyro_range ≤ 0`` a gyro that never saturates.
+    """The forward pass: ``gyro`` with its NaN rows already held (:func:`~quadlib.replay.held_inputs`).
+    NaN rows of the ``*_z`` arrays (or of ``heading_context``) are missing samples; a gate ``≤ 0``
+    means no gate; ``gyro_range ≤ 0`` a gyro that never saturates.
 
     Returns ``x (N, 7)``, ``P (N, 6, 6)`` and, per sensor, ``innovation``, ``S``, ``nis``,
     ``used`` and ``rejected`` (NaN / False where the sample was missing)."""
@@ -169,11 +179,9 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
     R_g, R_h, R_z = gravity_var * np.eye(3), np.full((1, 1), heading_var), zero_rate_var * np.eye(3)
     H_z = np.zeros((3, 6))
     H_z[:, 3:] = np.eye(3)
-    u = gyro[0].copy()
     for k in range(n):
         if k:
-            if not np.isnan(gyro[k - 1]).any():
-                u = gyro[k - 1].copy()
+            u = gyro[k - 1]
             dt = t[k] - t[k - 1]
             if abs(dt - q_dt) > 1e-9 * dt:
                 q_dt = dt
@@ -187,26 +195,20 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
                     P[i, i] += (gyro_range * dt) ** 2
             q = _normalize(q)
         if not np.isnan(gravity_z[k]).any():  # gravity: h = R(q)ᵀ up
-            J = np.zeros((7, 6))
-            J[:4, :3] = 0.5 * _rate_matrix(q)
-            J[4:, 3:] = np.eye(3)
             H7 = np.zeros((3, 7))
             H7[:, :4] = _body_vector_jacobian(q, up)
             y = gravity_z[k] - _dcm(q).T @ up
-            e, P, nis_k, S, ok = _update(P, H7 @ J, y, R_g, 6, gravity_gate)
+            e, P, nis_k, S, ok = _update(P, H7 @ _add_jacobian(q), y, R_g, 6, gravity_gate)
             inn_g[k], S_g[k], nis[0, k], used[0, k], rejected[0, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
         if not np.isnan(heading_z[k]) and not np.isnan(heading_context[k]).any():  # heading about the vertical
             R = _dcm(q)
             m_n = R @ heading_context[k]
-            J = np.zeros((7, 6))
-            J[:4, :3] = 0.5 * _rate_matrix(q)
-            J[4:, 3:] = np.eye(3)
             H7 = np.zeros((1, 7))
             H7[0, :4] = R[2] @ (2.0 * _rate_matrix(q).T)
             y = np.array([_wrap(heading_z[k] - math.atan2(m_n[1], m_n[0]))])
-            e, P, nis_k, S, ok = _update(P, H7 @ J, y, R_h, heading_uncorrected_from, heading_gate)
+            e, P, nis_k, S, ok = _update(P, H7 @ _add_jacobian(q), y, R_h, heading_uncorrected_from, heading_gate)
             inn_h[k], S_h[k], nis[1, k], used[1, k], rejected[1, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)

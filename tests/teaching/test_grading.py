@@ -14,6 +14,7 @@ from quadlib.teaching.grading import (
     SOLUTION_TAG,
     exercises,
     grade_notebook,
+    mutation_run,
     student_edition,
 )
 
@@ -67,3 +68,12 @@ def test_the_student_edition_as_shipped_fails_every_check_as_not_set_yet(name, t
     nbformat.write(student_edition(_chapter(name)), tmp_path / name)
     grades = grade_notebook(tmp_path / name)
     assert grades and all(not g.passed and g.feedback.startswith("answer not set yet") for g in grades), grades
+
+
+@pytest.mark.parametrize("name", CHAPTERS)
+def test_every_wrong_answer_listed_is_rejected(name):
+    """The mutation run: each plausible wrong answer in a solution's metadata fails its check."""
+    tried = mutation_run(NOTEBOOKS / name)
+    assert len(tried) >= 2 * len(exercises(_chapter(name))), "list a few plausible wrong answers per exercise"
+    accepted = [(m.number, m.source) for m in tried if not m.rejected]
+    assert not accepted, f"accepted wrong answers: {accepted}"
