@@ -11,6 +11,7 @@ from .altitude import (
 from .bias_model import (
     GYRO_NAMES,
     STATE_NAMES,
+    additive_attitude_bias_model,
     as_attitude_state,
     attitude_bias_model,
     gyro_step,
@@ -46,6 +47,7 @@ __all__ = [
     "altitude_from_pressure",
     "altitude_model",
     "as_attitude_state",
+    "additive_attitude_bias_model",
     "attitude_bias_model",
     "baro_altitude_sensor",
     "blend_weight",

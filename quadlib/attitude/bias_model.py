@@ -1,4 +1,5 @@
-"""The attitude-and-gyro-bias model every multiplicative attitude estimator shares.
+"""The attitude-and-gyro-bias model every multiplicative attitude estimator shares, and its
+additive 7-state form (Salmony's EKF).
 
 State ``x = [q_nb (4), b (3)]``: the attitude (scalar first) and the gyro's bias [rad/s]; input the
 gyro ``ω`` [rad/s]; error ``δx = [δθ (3), δb (3)]`` with ``q ⊗ exp(δθ)`` (a small rotation in the
@@ -7,19 +8,18 @@ body frame) and ``b + δb``. Used by the fixed-wing multiplicative EKF and error
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import (
-    integrate_body_rate,
-    quat_normalize,
-)
 from quadlib.imu import gyro_saturation_noise
 from quadlib.model import Model
 from quadlib.validation import as_positive, as_vector
 
-__all__ = ["GYRO_NAMES", "STATE_NAMES", "as_attitude_state", "attitude_bias_model", "gyro_error_jacobians", "gyro_step",
-           "gyro_step_jacobian", "normalize_attitude", "normalize_attitude_jacobian", "quaternion_rate_matrix"]
+__all__ = ["GYRO_NAMES", "STATE_NAMES", "additive_attitude_bias_model", "as_attitude_state", "attitude_bias_model",
+           "gyro_error_jacobians", "gyro_step", "gyro_step_jacobian", "normalize_attitude",
+           "normalize_attitude_jacobian", "quaternion_rate_matrix"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
 GYRO_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]")
@@ -41,54 +41,59 @@ def quaternion_rate_matrix(q) -> np.ndarray:
 
 def gyro_step(x, u, dt):
     """The exact gyro step of ``x = [q, b]``: ``[q ⊗ exp((ω − b) Δt), b]``, ``(7,)``."""
-    x, u = as_attitude_state("x", x), as_vector("u", u, 3)
-    return np.concatenate([integrate_body_rate(x[:4], u - x[4:], dt), x[4:]])
+    return _step(as_attitude_state("x", x), as_vector("u", u, 3), as_positive("dt", dt))
 
 
 def gyro_step_jacobian(x, u, dt):
     """``∂ gyro_step / ∂x``, ``(7, 7)``, exact. With ``φ = (ω − b) Δt``, ``θ = |φ|``, ``n = φ/θ`` and
     ``δq = exp(φ) = [cos(θ/2), sin(θ/2) n]``: ``∂/∂q`` is right multiplication by ``δq`` and
     ``∂/∂b = −Δt Ξ(q) ∂(sin(θ/2) n)/∂φ − Δt q ∂cos(θ/2)/∂φ``, where ``q ⊗ δq = δq₀ q + Ξ(q) δq_v``."""
-    x, u, dt = as_attitude_state("x", x), as_vector("u", u, 3), as_positive("dt", dt)
-    q = x[:4]
-    phi = (u - x[4:]) * dt
-    theta = float(np.linalg.norm(phi))
-    c, half = np.cos(theta / 2.0), 0.5 * theta
-    sinc = np.sin(half) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
-    # d(sin(θ/2)/θ)/dθ / θ, the coefficient of φ φᵀ in ∂(sin(θ/2) n)/∂φ, and its series
-    k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
-    w, v = c, sinc * phi
-    J = np.eye(7)
-    J[:4, :4] = np.array([[w, -v[0], -v[1], -v[2]], [v[0], w, v[2], -v[1]],
-                          [v[1], -v[2], w, v[0]], [v[2], v[1], -v[0], w]])
-    d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
-    d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
-    J[:4, 4:] = -dt * (np.outer(q, d_w) + quaternion_rate_matrix(q) @ d_v)
-    return J
+    return _step_jacobian(as_attitude_state("x", x), as_vector("u", u, 3), as_positive("dt", dt))
 
 
 def normalize_attitude(x):
     """The quaternion part back to unit norm, the biases unchanged."""
-    x = as_attitude_state("x", x)
-    return np.concatenate([quat_normalize(x[:4]), x[4:]])
+    return _normalized(as_attitude_state("x", x))
 
 
 def normalize_attitude_jacobian(x):
     """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the biases."""
-    x = as_attitude_state("x", x)
-    J = np.eye(7)
-    norm = float(np.linalg.norm(x[:4]))
-    q_hat = x[:4] / norm
-    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
-    return J
+    return _normalized_jacobian(as_attitude_state("x", x))
 
 
-def _step(x, u, dt):  # gyro_step, unchecked (the filter checked its log)
+# The unchecked versions: a filter calls these once per sample, after checking its whole log.
+
+def _step(x, u, dt):
     return np.concatenate([kernels.multiply(x[:4], kernels.exp_rotvec((u - x[4:]) * dt)), x[4:]])
 
 
-def _normalized(x):  # normalize_attitude, unchecked
+def _step_jacobian(x, u, dt):
+    q = x[:4]
+    phi = (u - x[4:]) * dt
+    theta = math.sqrt(float(phi @ phi))
+    c, half = math.cos(theta / 2.0), 0.5 * theta
+    sinc = math.sin(half) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
+    # d(sin(θ/2)/θ)/dθ / θ, the coefficient of φ φᵀ in ∂(sin(θ/2) n)/∂φ, and its series
+    k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
+    w, (v0, v1, v2) = c, (sinc * phi).tolist()
+    J = np.eye(7)
+    J[:4, :4] = [[w, -v0, -v1, -v2], [v0, w, v2, -v1], [v1, -v2, w, v0], [v2, v1, -v0, w]]
+    d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
+    d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
+    J[:4, 4:] = -dt * (np.outer(q, d_w) + kernels.rate_matrix(q) @ d_v)
+    return J
+
+
+def _normalized(x):
     return np.concatenate([kernels.normalize(x[:4]), x[4:]])
+
+
+def _normalized_jacobian(x):
+    J = np.eye(7)
+    norm = math.sqrt(float(x[:4] @ x[:4]))
+    q_hat = x[:4] / norm
+    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
+    return J
 
 
 def _add_error(x, e):
@@ -149,3 +154,23 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
                  normalize=_normalized,
                  input_noise=gyro_saturation_noise(gyro_range_rad_s, [1.0] * 3 + [0.0] * 3),
                  name="attitude and gyro bias, error state")
+
+
+def additive_attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
+                                 gyro_range_rad_s: float | None = None, name: str = "attitude and gyro bias") -> Model:
+    """Attitude ``q_nb`` and gyro bias ``b`` as one additive 7-state: the exact gyro step
+    :func:`gyro_step` with its Jacobian :func:`gyro_step_jacobian`, the quaternion renormalised after
+    every predict and update (:func:`normalize_attitude`, its Jacobian carrying ``P`` along).
+
+    .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t / 2)^2 I_4,\\;
+              \\sigma_b^2 \\Delta t\\, I_3\\big)
+
+    With ``gyro_range_rad_s``, a saturated gyro sample adds the attitude variance of
+    :func:`~quadlib.imu.saturated_step_variance`.
+    """
+    sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
+    sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
+    return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=_step, G=_step_jacobian,
+                 Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
+                 normalize=_normalized, normalize_jacobian=_normalized_jacobian,
+                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3), name=name)

@@ -35,19 +35,13 @@ import numpy as np
 
 from quadlib.attitude.bias_model import (
     GYRO_NAMES,
-    STATE_NAMES,
+    additive_attitude_bias_model,
     as_attitude_state,
-    gyro_step,
-    gyro_step_jacobian,
-    normalize_attitude,
-    normalize_attitude_jacobian,
     quaternion_rate_matrix,
 )
 from quadlib.constants import G0, earth_field_ned
-from quadlib.geometry.quaternion import (
-    quat_to_dcm,
-)
-from quadlib.imu import ImuNoise, gyro_saturation_noise
+from quadlib.geometry import kernels
+from quadlib.imu import ImuNoise
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
 
@@ -74,44 +68,62 @@ def fixedwing_A(x, omega) -> np.ndarray:
     return A
 
 
-def _accel_args(x, airspeed_m_s, g):
-    return as_attitude_state("x", x), as_finite_number("airspeed_m_s", airspeed_m_s), as_positive("g", g)
+def _accel_args(x, omega, airspeed_m_s, g):
+    return (as_attitude_state("x", x), as_vector("omega", omega, 3), as_finite_number("airspeed_m_s", airspeed_m_s),
+            as_positive("g", g))
 
 
 def accel_model(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
     """Eq. (13): specific force in the body frame, ``(3,)`` [m/s²]."""
-    x, airspeed_m_s, g = _accel_args(x, airspeed_m_s, g)
-    p, q, r = as_vector("omega", omega, 3) - x[4:]
-    return np.array([0.0, airspeed_m_s * r, -airspeed_m_s * q]) - g * quat_to_dcm(x[:4])[2]
+    return _accel(*_accel_args(x, omega, airspeed_m_s, g))
 
 
 def accel_jacobian(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
-    """``∂(eq. 13)/∂x``, ``(3, 7)`` (the first three rows of Salmony's C)."""
-    x, airspeed_m_s, g = _accel_args(x, airspeed_m_s, g)
-    as_vector("omega", omega, 3)  # the Jacobian does not depend on it, but the call must make sense
-    q0, q1, q2, q3 = x[:4]
-    C = np.zeros((3, 7))
-    C[:, :4] = -2.0 * g * np.array([[-q2, q3, -q0, q1], [q1, q0, q3, q2], [0.0, -2 * q1, -2 * q2, 0.0]])
-    C[1, 6], C[2, 5] = -airspeed_m_s, airspeed_m_s
-    return C
+    """``∂(eq. 13)/∂x``, ``(3, 7)`` (the first three rows of Salmony's C; it does not depend on ``omega``)."""
+    return _accel_jacobian(*_accel_args(x, omega, airspeed_m_s, g))
 
 
 def mag_model(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
     """Eq. (14), corrected: the unit field ``R(q)ᵀ m_n`` in the body frame. The document's
     model is ``inclination_rad = 0`` (a horizontal field)."""
-    x = as_attitude_state("x", x)
-    return quat_to_dcm(x[:4]).T @ earth_field_ned(1.0, inclination_rad, declination_rad)
+    return _mag(as_attitude_state("x", x), earth_field_ned(1.0, inclination_rad, declination_rad))
 
 
 def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
-    """``∂(mag_model)/∂x``, ``(3, 7)``, exact: the model is a quadratic polynomial in ``q``, so a
-    central difference with unit steps has no truncation error."""
-    q = as_attitude_state("x", x)[:4]
-    steps = np.vstack([q + np.eye(4), q - np.eye(4)])  # the eight points, one rotation-matrix call
-    fields = np.einsum("nji,j->ni", quat_to_dcm(steps, unit_tolerance=None),
-                       earth_field_ned(1.0, inclination_rad, declination_rad))
+    """``∂(mag_model)/∂x``, ``(3, 7)``, exact."""
+    return _mag_jacobian(as_attitude_state("x", x), earth_field_ned(1.0, inclination_rad, declination_rad))
+
+
+# The unchecked versions, called once per sample by the sensors below. R(q) is written as
+# 1 − 2(y² + z²), … on the diagonal (quat_to_dcm's form), which for a unit q equals the
+# homogeneous w² + x² − y² − z², …; the Jacobians are those of this form, off the unit sphere too.
+
+def _accel(x, omega, airspeed_m_s, g):
+    w, qx, qy, qz = x[:4].tolist()
+    _, q, r = (omega - x[4:]).tolist()
+    down = (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy))  # R(q)ᵀ [0, 0, 1]
+    return np.array([-g * down[0], airspeed_m_s * r - g * down[1], -airspeed_m_s * q - g * down[2]])
+
+
+def _accel_jacobian(x, omega, airspeed_m_s, g):
+    q0, q1, q2, q3 = x[:4].tolist()
     C = np.zeros((3, 7))
-    C[:, :4] = ((fields[:4] - fields[4:]) / 2.0).T
+    C[:, :4] = [[2 * g * q2, -2 * g * q3, 2 * g * q0, -2 * g * q1],
+                [-2 * g * q1, -2 * g * q0, -2 * g * q3, -2 * g * q2],
+                [0.0, 4 * g * q1, 4 * g * q2, 0.0]]
+    C[1, 6], C[2, 5] = -airspeed_m_s, airspeed_m_s
+    return C
+
+
+def _mag(x, field_n):
+    q = x[:4]
+    return kernels.dcm(q).T @ field_n + (1.0 - float(q @ q)) * field_n
+
+
+def _mag_jacobian(x, field_n):
+    q = x[:4]
+    C = np.zeros((3, 7))
+    C[:, :4] = kernels.body_vector_jacobian(q, field_n) - 2.0 * np.outer(field_n, q)
     return C
 
 
@@ -185,13 +197,8 @@ def fixedwing_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
     ``gyro_range_rad_s``, a saturated gyro sample adds the attitude variance of
     :func:`~quadlib.imu.saturated_step_variance`.
     """
-    sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
-    sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
-    return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=gyro_step, G=gyro_step_jacobian,
-                 Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
-                 normalize=normalize_attitude, normalize_jacobian=normalize_attitude_jacobian,
-                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3),
-                 name="Salmony fixed-wing")
+    return additive_attitude_bias_model(gyro_sigma_rad_s, gyro_bias_walk_rad_s_sqrt_s, gyro_range_rad_s,
+                                        name="Salmony fixed-wing")
 
 
 def fixedwing_accel_sensor(sigma_m_s2: float, unmodelled_m_s2: float | None = None) -> Sensor:
@@ -204,19 +211,19 @@ def fixedwing_accel_sensor(sigma_m_s2: float, unmodelled_m_s2: float | None = No
     names = ("ax [m/s2]", "ay [m/s2]", "az [m/s2]")
     if unmodelled_m_s2 is None:
         return Sensor(name="accel", measurement_names=names, context_names=GYRO_NAMES + ("V_a [m/s]",),
-                      h=lambda x, c: accel_model(x, c[:3], c[3]), H=lambda x, c: accel_jacobian(x, c[:3], c[3]),
+                      h=lambda x, c: _accel(x, c[:3], c[3], G0), H=lambda x, c: _accel_jacobian(x, c[:3], c[3], G0),
                       R=s**2 * np.eye(3))
     var = s**2 + as_positive("unmodelled_m_s2", unmodelled_m_s2) ** 2
     return Sensor(name="accel (no airspeed)", measurement_names=names, context_names=GYRO_NAMES,
-                  h=lambda x, c: accel_model(x, c, 0.0), H=lambda x, c: accel_jacobian(x, c, 0.0), R=var * np.eye(3))
+                  h=lambda x, c: _accel(x, c, 0.0, G0), H=lambda x, c: _accel_jacobian(x, c, 0.0, G0),
+                  R=var * np.eye(3))
 
 
 def fixedwing_mag_sensor(declination_rad: float, sigma: float, inclination_rad: float = 0.0) -> Sensor:
     """Eq. (14), corrected (E20), on the unit field; ``inclination_rad = 0`` is the document's
     horizontal field. ``sigma`` is per axis of the unit vector."""
     s = as_positive("sigma", sigma)
-    declination_rad = as_finite_number("declination_rad", declination_rad)
-    inclination_rad = as_finite_number("inclination_rad", inclination_rad)
-    return Sensor(name="mag", measurement_names=("mx", "my", "mz"),
-                  h=lambda x: mag_model(x, declination_rad, inclination_rad),
-                  H=lambda x: mag_jacobian(x, declination_rad, inclination_rad), R=s**2 * np.eye(3))
+    field_n = earth_field_ned(1.0, as_finite_number("inclination_rad", inclination_rad),
+                              as_finite_number("declination_rad", declination_rad))
+    return Sensor(name="mag", measurement_names=("mx", "my", "mz"), h=lambda x: _mag(x, field_n),
+                  H=lambda x: _mag_jacobian(x, field_n), R=s**2 * np.eye(3))

@@ -9,7 +9,9 @@ from quadlib.fixedwing.model import (
     accel_model,
     airspeed_from_pressure,
     fixedwing_A,
+    fixedwing_accel_sensor,
     fixedwing_f,
+    fixedwing_mag_sensor,
     lowpass2,
     mag_jacobian,
     mag_model,
@@ -31,6 +33,17 @@ def test_jacobians_match_finite_differences():
     np.testing.assert_allclose(fixedwing_A(X, W), _fd(lambda x: fixedwing_f(x, W), X), atol=1e-8)
     np.testing.assert_allclose(accel_jacobian(X, W, 20.0), _fd(lambda x: accel_model(x, W, 20.0), X), atol=1e-6)
     np.testing.assert_allclose(mag_jacobian(X, 0.2, 0.9), _fd(lambda x: mag_model(x, 0.2, 0.9), X), atol=1e-8)
+
+
+def test_the_sensors_evaluate_the_models_off_the_unit_sphere_too():
+    x = X * np.r_[[1.1] * 4, [1.0] * 3]  # the Jacobians are those of quat_to_dcm's form, |q| = 1.1 included
+    accel, no_airspeed = fixedwing_accel_sensor(0.1), fixedwing_accel_sensor(0.1, unmodelled_m_s2=3.0)
+    mag = fixedwing_mag_sensor(0.2, 0.01, 0.9)
+    np.testing.assert_allclose(accel.h(X, np.r_[W, 20.0]), accel_model(X, W, 20.0), atol=1e-15)
+    np.testing.assert_allclose(no_airspeed.h(X, W), accel_model(X, W, 0.0), atol=1e-15)
+    np.testing.assert_allclose(mag.h(X), mag_model(X, 0.2, 0.9), atol=1e-15)
+    np.testing.assert_allclose(accel.H(x, np.r_[W, 20.0]), _fd(lambda v: accel.h(v, np.r_[W, 20.0]), x), atol=1e-6)
+    np.testing.assert_allclose(mag.H(x), _fd(mag.h, x), atol=1e-8)
 
 
 def test_kinematics_integrate_to_the_exact_rotation():
