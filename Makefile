@@ -42,9 +42,10 @@ grade: $(STAMP)
 NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
 
 # One pytest session: unit tests and every notebook's stored outputs (nbval strict), on every core
-# (pytest-xdist; --dist loadscope keeps each notebook's cells, which share one kernel, on one worker).
+# (pytest-xdist; --dist loadgroup keeps each file on one worker — a notebook's cells share one kernel — and
+# spreads the tests that name their own group, see conftest.py).
 test: $(STAMP)
-	$(BIN)/python -m pytest -n auto --dist loadscope tests notebooks $(NBVAL)
+	$(BIN)/python -m pytest -n auto --dist loadgroup tests notebooks $(NBVAL)
 
 unit: $(STAMP)
 	$(BIN)/python -m pytest tests
@@ -72,7 +73,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/particle_filter.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py
+	$(BIN)/ruff check quadlib tests benchmarks scripts book/conf.py conftest.py
 
 clean:
 	rm -rf _build book/chapters .jupyter_cache

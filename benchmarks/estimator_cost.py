@@ -1,5 +1,5 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (the
-orientation MEKF also compiled, :mod:`quadlib.attitude.orientation_loop`).
+orientation MEKF also compiled, :mod:`quadlib.attitude.compiled_mekf`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,

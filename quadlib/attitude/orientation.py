@@ -23,7 +23,7 @@ import numpy as np
 
 from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
-from quadlib.attitude.orientation_loop import calm_samples, inertial_lowpass_pass, mekf_pass, rts_pass
+from quadlib.attitude.compiled_mekf import calm_samples, inertial_lowpass_pass, mekf_pass, rts_pass
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
@@ -314,7 +314,7 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
     Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
     ``compiled=False`` runs the readable filter, :class:`~quadlib.ModelEKF` driven by
     :func:`~quadlib.replay.run_filter` (and :func:`~quadlib.replay.rts_smooth` offline); the default
-    runs the same steps compiled (:mod:`~quadlib.attitude.orientation_loop`; equal to 1e-10, tested),
+    runs the same steps compiled (:mod:`~quadlib.attitude.compiled_mekf`; equal to 1e-10, tested),
     and falls back to the readable one for a log whose timestamps repeat within their precision.
     """
     if not isinstance(log, ImuLog):
@@ -383,7 +383,7 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
 def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list, params: OrientationParams,
                   offline: bool) -> FilterRun | None:
     """What ``run_filter(ekf, log.t, log.gyro, measurements, params.gate_probability)`` returns, from
-    :func:`~quadlib.attitude.orientation_loop.mekf_pass`; None if the estimate became non-finite
+    :func:`~quadlib.attitude.compiled_mekf.mekf_pass`; None if the estimate became non-finite
     (the readable loop then names where)."""
     n = len(log)
     gyro, held = held_inputs(ekf.model, log.gyro, n)

@@ -17,7 +17,8 @@ with a message that says what is wrong without giving the answer away).
 * :func:`mutation_run` proves the checks: a solution cell lists plausible wrong answers in its
   metadata (``"mutations"``: a guess of the right order, a neighbouring quantity, another
   filter's figure, a unit or sign slip), and each, run in place of the solution, must make the
-  check fail with something other than "answer not set yet".
+  check fail with something other than "answer not set yet"; the student edition's empty answer
+  cell, run there too, must make it say "answer not set yet".
 
 The project grades with this small tool rather than otter-grader or nbgrader. Both would need
 every chapter rewritten into their own format (otter's ``# BEGIN QUESTION`` cells and separate
@@ -101,6 +102,11 @@ def exercises(nb) -> list[Exercise]:
     return out
 
 
+def _blank_answer(ex: Exercise) -> str:
+    """The student edition's answer cell of ``ex``: a comment naming what to define."""
+    return f"# Your answer: define {', '.join(ex.answers) or 'your answer'} here.\n"
+
+
 def student_edition(nb):
     """A copy of ``nb`` with each solution replaced by an answer cell to fill in (tagged
     ``answer``), the outputs of answer and check cells cleared, and the rubrics removed."""
@@ -108,8 +114,7 @@ def student_edition(nb):
     student.cells = [c for c in student.cells if RUBRIC_TAG not in c.get("metadata", {}).get("tags", [])]
     for ex in exercises(student):
         cell = student.cells[ex.answer]
-        names = ", ".join(ex.answers) or "your answer"
-        cell.source = f"# Your answer: define {names} here.\n"
+        cell.source = _blank_answer(ex)
         tags = [t for t in cell.metadata.get("tags", []) if t not in (SOLUTION_TAG, "hide-input")]
         cell.metadata = {"tags": tags + [ANSWER_TAG]}
         cell.outputs, cell.execution_count = [], None
@@ -145,13 +150,16 @@ def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
 
 @dataclass(frozen=True)
 class Mutation:
-    """One wrong answer tried by :func:`mutation_run`: the exercise's ``number``, the wrong
-    ``source``, whether the check ``rejected`` it, and the check's ``feedback``."""
+    """One answer tried by :func:`mutation_run`: the exercise's ``number``, the answer's ``source``,
+    whether the check ``rejected`` it as it should, and the check's ``feedback``. A wrong answer is
+    rejected by an ``AssertionError`` that is not "answer not set yet"; the ``blank`` answer (the
+    student edition's empty cell) by one that is."""
 
     number: int
     source: str
     rejected: bool
     feedback: str
+    blank: bool = False
 
 
 def _error(cell) -> tuple[str, str] | None:
@@ -162,10 +170,14 @@ def _error(cell) -> tuple[str, str] | None:
 
 
 def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
-    """Execute the solution edition at ``path`` in one kernel; before each solution, run each of
-    its ``mutations`` followed by the check, and record whether the check rejected it (an
-    ``AssertionError`` that is not "answer not set yet"). The solution and its check then run as
-    usual, and must pass."""
+    """Execute the solution edition at ``path`` in one kernel; before each solution, run the
+    student edition's blank answer and then each of its ``mutations``, each followed by the check,
+    and record whether the check rejected it as it should (:class:`Mutation`). The solution and its
+    check then run as usual, and must pass.
+
+    The blank runs where every cell before it has run, solutions included: the kernel holds at
+    least the names the student edition's would, so a check that says "answer not set yet" here
+    says it there too."""
     import nbformat
     from nbclient import NotebookClient
 
@@ -182,15 +194,17 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
         for index, cell in enumerate(nb.cells):
             if index in by_answer:
                 number, ex = by_answer[index]
-                for source in cell.metadata.get("mutations", []):
-                    wrong = nbformat.v4.new_code_cell(source)
+                for k, source in enumerate([_blank_answer(ex), *cell.metadata.get("mutations", [])]):
+                    blank = k == 0
+                    tried = nbformat.v4.new_code_cell(source)
                     check = nbformat.v4.new_code_cell(nb.cells[ex.check].source)
-                    client.execute_cell(wrong, index)
+                    client.execute_cell(tried, index)
                     client.execute_cell(check, ex.check)
-                    error = _error(wrong) or _error(check)
-                    rejected = error is not None and error[0] == "AssertionError" and \
-                        not error[1].startswith("answer not set yet")
-                    results.append(Mutation(number, source, rejected, "passed" if error is None else ": ".join(error)))
+                    error = _error(tried) or _error(check)
+                    not_set = error is not None and error[1].startswith("answer not set yet")
+                    rejected = error is not None and error[0] == "AssertionError" and not_set == blank
+                    results.append(Mutation(number, source, rejected, "passed" if error is None else ": ".join(error),
+                                            blank))
             if cell.cell_type == "code":
                 client.execute_cell(cell, index)
                 error = _error(cell)

@@ -1,6 +1,6 @@
 """The student edition and the grader: a solution passes, a blank answer is "not set yet", a wrong
-answer gets the check's feedback; and the student edition of every chapter, as shipped, fails
-every graded check with "answer not set yet"."""
+answer gets the check's feedback; and in every chapter, each exercise's blank answer fails its check
+with "answer not set yet" and each listed wrong answer fails it with feedback."""
 
 import copy
 from pathlib import Path
@@ -55,25 +55,24 @@ def test_grading_passes_a_solution_fails_a_blank_and_explains_a_wrong_answer(tmp
     wrong.cells[ex.answer].source = "alpha_ex, lag_ex = 0.5, 1.0"
     nbformat.write(wrong, tmp_path / "wrong.ipynb")
     assert [g.passed for g in grade_notebook(tmp_path / "solution.ipynb")] == [True] * len(exercises(nb))
-    blank = grade_notebook(tmp_path / "blank.ipynb")
-    assert not blank[0].passed and blank[0].feedback.startswith("answer not set yet")
+    blank = grade_notebook(tmp_path / "blank.ipynb")  # the whole student edition, as shipped
+    assert len(blank) == len(exercises(nb)) and all(not g.passed and g.feedback.startswith("answer not set yet")
+                                                    for g in blank), blank
     graded = grade_notebook(tmp_path / "wrong.ipynb")
     assert not graded[0].passed and "not set yet" not in graded[0].feedback and graded[0].feedback
     with pytest.raises(FileNotFoundError, match="path: expected a notebook file"):
         grade_notebook(tmp_path / "missing.ipynb")
 
 
-@pytest.mark.parametrize("name", CHAPTERS)
-def test_the_student_edition_as_shipped_fails_every_check_as_not_set_yet(name, tmp_path):
-    nbformat.write(student_edition(_chapter(name)), tmp_path / name)
-    grades = grade_notebook(tmp_path / name)
-    assert grades and all(not g.passed and g.feedback.startswith("answer not set yet") for g in grades), grades
-
-
-@pytest.mark.parametrize("name", CHAPTERS)
-def test_every_wrong_answer_listed_is_rejected(name):
-    """The mutation run: each plausible wrong answer in a solution's metadata fails its check."""
+# each chapter in its own group, so that pytest-xdist spreads these runs over the workers
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xdist_group(f"mutation run {n}"))
+                                  for n in CHAPTERS])
+def test_every_blank_and_every_wrong_answer_listed_is_rejected(name):
+    """The mutation run: the blank answer of each exercise is "not set yet", and each plausible wrong
+    answer in a solution's metadata fails its check with feedback."""
     tried = mutation_run(NOTEBOOKS / name)
-    assert len(tried) >= 2 * len(exercises(_chapter(name))), "list a few plausible wrong answers per exercise"
-    accepted = [(m.number, m.source) for m in tried if not m.rejected]
-    assert not accepted, f"accepted wrong answers: {accepted}"
+    n_exercises = len(exercises(_chapter(name)))
+    assert [m.number for m in tried if m.blank] == list(range(1, n_exercises + 1))
+    assert len(tried) >= 3 * n_exercises, "list a few plausible wrong answers per exercise"
+    accepted = [(m.number, m.source, m.feedback) for m in tried if not m.rejected]
+    assert not accepted, f"answers the checks did not reject as they should: {accepted}"

@@ -5,8 +5,8 @@ branch — rest, dropouts, held gyro rows, gate rejections, a saturated gyro, no
 import numpy as np
 import pytest
 
+from quadlib.attitude.compiled_mekf import calm_samples, inertial_lowpass_pass
 from quadlib.attitude.orientation import OrientationParams, inertial_lowpass, orientation_run, rest_mask
-from quadlib.attitude.orientation_loop import calm_samples, inertial_lowpass_pass
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.data import load_broad_trial

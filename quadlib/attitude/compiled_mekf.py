@@ -5,7 +5,7 @@ filter — :class:`~quadlib.ModelEKF` on the attitude-and-bias model, its three 
 ``run_filter`` — and chapter 13 shows it. It costs about 300 µs a sample in each pass, and a
 Python loop written for this one filter still costs about 110 µs (small numpy arrays: each
 operation costs a microsecond whatever its size). So the same steps are written here once more,
-as plain loops over floats that numba compiles; :mod:`tests.attitude.test_orientation_loop`
+as plain loops over floats that numba compiles; :mod:`tests.attitude.test_compiled_mekf`
 checks that both give the same states and covariances to 1e-10, with dropouts, gate rejections,
 rest, a saturated gyro and the smoother's backward pass.
 
