@@ -10,9 +10,9 @@ import time
 from pathlib import Path
 
 import nbformat
-from nbclient import NotebookClient
 
 from quadlib.progress import switch_off
+from quadlib.teaching.execution import notebook_client
 
 switch_off()  # no progress bars in stored or timed outputs
 
@@ -22,7 +22,7 @@ BUDGET_S = 20.0
 
 def execute_seconds(path: Path) -> float:
     nb = nbformat.read(path, as_version=4)
-    client = NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}})
+    client = notebook_client(nb, path.parent)
     start = time.perf_counter()
     client.execute()
     return time.perf_counter() - start

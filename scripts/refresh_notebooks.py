@@ -12,9 +12,9 @@ import time
 from pathlib import Path
 
 import nbformat
-from nbclient import NotebookClient
 
 from quadlib.progress import switch_off
+from quadlib.teaching.execution import notebook_client
 
 switch_off()  # no progress bars in stored or timed outputs
 
@@ -34,7 +34,7 @@ def normalise(nb: nbformat.NotebookNode) -> None:
 def refresh(path: Path) -> float:
     nb = nbformat.read(path, as_version=4)
     start = time.perf_counter()
-    NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+    notebook_client(nb, path.parent).execute()
     elapsed = time.perf_counter() - start
     normalise(nb)
     nbformat.write(nb, path)

@@ -281,6 +281,7 @@ from quadlib.teaching import (
     tuning_sliders,
     uniform_grid,
 )
+from quadlib.teaching.execution import notebook_client
 
 NAN, INF = float("nan"), float("inf")
 SEED_ARG = st.sampled_from([-1, 1.5, "0", True])  # seeds start at 0
@@ -1082,6 +1083,7 @@ PROBES += [
     Probe(exercises, lambda: dict(nb=nbformat.v4.new_notebook()), {"nb": WRONG_TYPE}),
     Probe(student_edition, lambda: dict(nb=nbformat.v4.new_notebook()), {"nb": WRONG_TYPE}),
     Probe(grade_notebook, lambda: dict(path="/nonexistent/never.ipynb"), {"timeout_s": POS}),
+    Probe(notebook_client, lambda: dict(nb=nbformat.v4.new_notebook(), directory="."), {"timeout_s": POS}),
     Probe(mutation_run, lambda: dict(path="/nonexistent/never.ipynb"), {"timeout_s": POS}),
     Probe(show_source, lambda: dict(obj=show_source), {"obj": st.sampled_from([1.0, "x", None, np.sin])}),
     Probe(span, lambda: dict(values=[1.0, 2.0], spec=".1f"),

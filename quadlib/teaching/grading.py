@@ -11,7 +11,8 @@ with a message that says what is wrong without giving the answer away).
 * An open question is graded by hand: its statement is followed by a markdown cell tagged
   ``rubric`` (criteria and points, inside a ``<details>`` element, so Jupyter and the instructor
   book show it collapsed).
-* :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient; a failing cell
+* :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient, through
+  :func:`~quadlib.teaching.execution.notebook_client`; a failing cell
   does not stop the run) and reads each check's outcome: passed, or the assertion's message as
   feedback.
 * :func:`mutation_run` proves the checks: a solution cell lists plausible wrong answers in its
@@ -126,15 +127,15 @@ def student_edition(nb):
 def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
     """Execute the notebook at ``path`` and grade each of its exercises by its check's outcome."""
     import nbformat
-    from nbclient import NotebookClient
+
+    from quadlib.teaching.execution import notebook_client  # imports nbclient (2 s): only when grading
 
     timeout = as_positive("timeout_s", timeout_s)
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
     nb = nbformat.read(path, as_version=4)
-    NotebookClient(nb, timeout=timeout, kernel_name="python3", allow_errors=True,
-                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    notebook_client(nb, path.parent, timeout, allow_errors=True).execute()
     grades = []
     for number, ex in enumerate(exercises(nb), start=1):
         errors = [o for o in nb.cells[ex.check].get("outputs", []) if o.get("output_type") == "error"]
@@ -179,7 +180,8 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
     least the names the student edition's would, so a check that says "answer not set yet" here
     says it there too."""
     import nbformat
-    from nbclient import NotebookClient
+
+    from quadlib.teaching.execution import notebook_client  # imports nbclient (2 s): only when grading
 
     timeout = as_positive("timeout_s", timeout_s)
     path = Path(path)
@@ -187,8 +189,7 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
         raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
     nb = nbformat.read(path, as_version=4)
     by_answer = {ex.answer: (number, ex) for number, ex in enumerate(exercises(nb), start=1)}
-    client = NotebookClient(nb, timeout=timeout, kernel_name="python3", allow_errors=True,
-                            resources={"metadata": {"path": str(path.parent)}})
+    client = notebook_client(nb, path.parent, timeout, allow_errors=True)
     results = []
     with client.setup_kernel():
         for index, cell in enumerate(nb.cells):
