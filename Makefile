@@ -42,10 +42,9 @@ grade: $(STAMP)
 NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
 
 # One pytest session: unit tests and every notebook's stored outputs (nbval strict), on every core
-# (pytest-xdist; --dist loadgroup keeps each file on one worker — a notebook's cells share one kernel — and
-# spreads the tests that name their own group, see conftest.py).
+# (pytest-xdist; --dist loadscope keeps each notebook's cells, which share one kernel, on one worker).
 test: $(STAMP)
-	$(BIN)/python -m pytest -n auto --dist loadgroup tests notebooks $(NBVAL)
+	$(BIN)/python -m pytest -n auto --dist loadscope tests notebooks $(NBVAL)
 
 unit: $(STAMP)
 	$(BIN)/python -m pytest tests

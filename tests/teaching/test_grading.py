@@ -64,9 +64,7 @@ def test_grading_passes_a_solution_fails_a_blank_and_explains_a_wrong_answer(tmp
         grade_notebook(tmp_path / "missing.ipynb")
 
 
-# each chapter in its own group, so that pytest-xdist spreads these runs over the workers
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xdist_group(f"mutation run {n}"))
-                                  for n in CHAPTERS])
+@pytest.mark.parametrize("name", CHAPTERS)
 def test_every_blank_and_every_wrong_answer_listed_is_rejected(name):
     """The mutation run: the blank answer of each exercise is "not set yet", and each plausible wrong
     answer in a solution's metadata fails its check with feedback."""
