@@ -1,7 +1,7 @@
 """Orientation on the BROAD trials: every quadlib estimator against VQF and ahrs, in one run.
 
 Usage: ``python benchmarks/broad_orientation.py [estimator,estimator,...]`` (all of them: about
-16 minutes on 2 cores, most of it the fixed-wing error-state UKF; named ones replace their rows in
+7 minutes on 2 cores, most of it the fixed-wing error-state UKF; named ones replace their rows in
 the stored results and keep the others). Prints, per trial and as the mean
 over the trials, BROAD's total / heading / inclination RMSE [deg] (Laidig et al. 2021;
 :func:`quadlib.analysis.broad_errors`) and the cost per sample [µs] of each estimator, all with
