@@ -41,6 +41,7 @@ from quadlib.attitude.bias_model import (
 )
 from quadlib.constants import G0, earth_field_ned
 from quadlib.geometry import kernels
+from quadlib.geometry.quaternion import as_unit_quaternions
 from quadlib.imu import ImuNoise
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
@@ -73,9 +74,18 @@ def _accel_args(x, omega, airspeed_m_s, g):
             as_positive("g", g))
 
 
+def _unit_attitude(x):
+    """``x = [q, b]`` checked, its quaternion within ``UNIT_TOLERANCE`` of unit norm (a model of a
+    rotation; the Jacobians accept any non-zero ``q``)."""
+    x = as_attitude_state("x", x)
+    as_unit_quaternions("x[:4]", x[:4])
+    return x
+
+
 def accel_model(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
     """Eq. (13): specific force in the body frame, ``(3,)`` [m/s²]."""
-    return _accel(*_accel_args(x, omega, airspeed_m_s, g))
+    x, omega, airspeed_m_s, g = _accel_args(x, omega, airspeed_m_s, g)
+    return _accel(_unit_attitude(x), omega, airspeed_m_s, g)
 
 
 def accel_jacobian(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
@@ -86,7 +96,7 @@ def accel_jacobian(x, omega, airspeed_m_s: float, g: float = G0) -> np.ndarray:
 def mag_model(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:
     """Eq. (14), corrected: the unit field ``R(q)ᵀ m_n`` in the body frame. The document's
     model is ``inclination_rad = 0`` (a horizontal field)."""
-    return _mag(as_attitude_state("x", x), earth_field_ned(1.0, inclination_rad, declination_rad))
+    return _mag(_unit_attitude(x), earth_field_ned(1.0, inclination_rad, declination_rad))
 
 
 def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.ndarray:

@@ -115,3 +115,9 @@ def test_pitot_airspeed():
     assert airspeed_from_pressure(245.0) == pytest.approx(20.0, rel=1e-3)
     with pytest.raises(ValueError, match="dp_pa: expected non-negative"):
         airspeed_from_pressure([-1.0])
+
+
+@pytest.mark.parametrize("model", [lambda x: accel_model(x, W, 20.0), lambda x: mag_model(x, 0.2)])
+def test_the_models_refuse_a_quaternion_that_is_not_a_rotation(model):
+    with pytest.raises(ValueError, match=r"x\[:4\]: expected unit quaternions"):
+        model(X * np.r_[[1.2] * 4, [1.0] * 3])
