@@ -124,8 +124,8 @@ def student_edition(nb):
     return student
 
 
-def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
-    """Execute the notebook at ``path`` and grade each of its exercises by its check's outcome."""
+def _submission(path, timeout_s: float):
+    """The notebook at ``path`` and a client that runs it in its folder, running on past errors."""
     import nbformat
 
     from quadlib.teaching.execution import notebook_client  # imports nbclient (2 s): only when grading
@@ -135,14 +135,29 @@ def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
     if not path.is_file():
         raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
     nb = nbformat.read(path, as_version=4)
-    notebook_client(nb, path.parent, timeout, allow_errors=True).execute()
+    return nb, notebook_client(nb, path.parent, timeout, allow_errors=True)
+
+
+def _error(cell) -> tuple[str, str] | None:
+    """The name and message of the first error a cell's outputs hold, or None."""
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "error":
+            return out.get("ename", ""), out.get("evalue", "")
+    return None
+
+
+def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
+    """Execute the notebook at ``path`` and grade each of its exercises by its check's outcome."""
+    nb, client = _submission(path, timeout_s)
+    client.execute()
     grades = []
     for number, ex in enumerate(exercises(nb), start=1):
-        errors = [o for o in nb.cells[ex.check].get("outputs", []) if o.get("output_type") == "error"]
-        if errors:
-            feedback = errors[0].get("evalue") or errors[0].get("ename", "error")
-            if errors[0].get("ename") != "AssertionError":
-                feedback = f"{errors[0].get('ename')}: {feedback}"
+        error = _error(nb.cells[ex.check])
+        if error is not None:
+            name, message = error
+            feedback = message or name or "error"
+            if name != "AssertionError":
+                feedback = f"{name}: {feedback}"
             grades.append(Grade(number, False, feedback))
         else:
             grades.append(Grade(number, True, "passed"))
@@ -163,13 +178,6 @@ class Mutation:
     blank: bool = False
 
 
-def _error(cell) -> tuple[str, str] | None:
-    for out in cell.get("outputs", []):
-        if out.get("output_type") == "error":
-            return out.get("ename", ""), out.get("evalue", "")
-    return None
-
-
 def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
     """Execute the solution edition at ``path`` in one kernel; before each solution, run the
     student edition's blank answer and then each of its ``mutations``, each followed by the check,
@@ -181,15 +189,8 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
     says it there too."""
     import nbformat
 
-    from quadlib.teaching.execution import notebook_client  # imports nbclient (2 s): only when grading
-
-    timeout = as_positive("timeout_s", timeout_s)
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"path: expected a notebook file, got {str(path)!r}, which does not exist")
-    nb = nbformat.read(path, as_version=4)
+    nb, client = _submission(path, timeout_s)
     by_answer = {ex.answer: (number, ex) for number, ex in enumerate(exercises(nb), start=1)}
-    client = notebook_client(nb, path.parent, timeout, allow_errors=True)
     results = []
     with client.setup_kernel():
         for index, cell in enumerate(nb.cells):
@@ -210,5 +211,6 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
                 client.execute_cell(cell, index)
                 error = _error(cell)
                 if error is not None and "raises-exception" not in cell.metadata.get("tags", []):
-                    raise RuntimeError(f"{path.name}, cell {index}: the solution edition failed: {': '.join(error)}")
+                    raise RuntimeError(f"{Path(path).name}, cell {index}: the solution edition failed: "
+                                       f"{': '.join(error)}")
     return results
