@@ -238,6 +238,7 @@ from quadlib.quad import (
 from quadlib.samples import Measurements
 from quadlib.sim import (
     BodyMotion,
+    gaussian_factor,
     imu_faults,
     imu_samples,
     min_jerk,
@@ -821,6 +822,8 @@ PROBES += [
            "values": st.sampled_from([[1.0], [INF, 1.0], "v"])}),
     Probe(step_profile, lambda: dict(t=[0.0, 1.0], t_step=0.5, before=0.0, after=1.0),
           {"t": st.sampled_from([[NAN], "t", None]), "t_step": FIN, "before": FIN, "after": FIN}),
+    Probe(gaussian_factor, lambda: dict(cov=np.eye(2)),
+          {"cov": st.sampled_from([np.zeros((2, 3)), np.full((2, 2), NAN), np.ones(2), "cov", None])}),
     Probe(simulate_model, lambda: dict(model=_cv_model(), x0=[0.0, 0.0], t=[0.0, 0.1, 0.2], u=np.zeros((3, 1)),
                                        rng=np.random.default_rng(0)),
           {"model": WRONG_TYPE, "x0": BAD["state2"], "t": BAD["times"],

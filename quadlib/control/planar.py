@@ -19,6 +19,7 @@ import numpy as np
 from quadlib.constants import G0
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import ModelFilter
+from quadlib.sim.simulate import gaussian_factor
 from quadlib.validation import as_finite_number, as_instance, as_positive, as_rng, as_times
 
 __all__ = ["PlanarRun", "hold_distance"]
@@ -55,15 +56,17 @@ def hold_distance(model: Model, sensor: Sensor, filt: ModelFilter, t, x0, target
         raise ValueError(f"sample_every: expected an int >= 1, got {sample_every!r}")
     k_p, k_d, max_roll = (as_positive(n, v) for n, v in (("k_p", k_p), ("k_d", k_d), ("max_roll_rad", max_roll_rad)))
     xs, sigmas, roll_cmd = np.empty_like(truth), np.empty_like(truth), np.empty(t.size)
+    q_factors, r_factor = {}, gaussian_factor(sensor.R).T  # draws as rng.multivariate_normal(..., method="eigh")
     for k in range(t.size):
         if k:
             dt = float(t[k] - t[k - 1])
             u = np.array([roll_cmd[k - 1]])
-            truth[k] = model.g(truth[k - 1], u, dt) + rng.multivariate_normal(np.zeros(model.dim_x), model.Q(dt),
-                                                                                method="eigh")
+            if dt not in q_factors:
+                q_factors[dt] = gaussian_factor(model.Q(dt)).T
+            truth[k] = model.g(truth[k - 1], u, dt) + (rng.standard_normal((1, model.dim_x)) @ q_factors[dt])[0]
             filt.predict(u, dt)
         if k % sample_every == 0:
-            z = sensor.h(truth[k]) + rng.multivariate_normal(np.zeros(sensor.dim_z), sensor.R, method="eigh")
+            z = sensor.h(truth[k]) + (rng.standard_normal((1, sensor.dim_z)) @ r_factor)[0]
             filt.update_sensor(sensor, z)
         est = filt.estimate
         xs[k], sigmas[k] = est, np.sqrt(np.diag(filt.P))

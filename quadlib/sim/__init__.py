@@ -2,12 +2,13 @@
 
 from .faults import imu_faults
 from .imu import BodyMotion, imu_samples, specific_force_at_rest
-from .simulate import sample_sensor, simulate_model, with_dropouts, with_outage, with_outliers
+from .simulate import gaussian_factor, sample_sensor, simulate_model, with_dropouts, with_outage, with_outliers
 from .trajectories import VerticalRun, min_jerk, piecewise_constant, step_profile, vertical_sine
 
 __all__ = [
     "BodyMotion",
     "VerticalRun",
+    "gaussian_factor",
     "imu_faults",
     "imu_samples",
     "min_jerk",

@@ -5,6 +5,8 @@ Every stochastic function takes an ``rng`` (``numpy.random.Generator``).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from quadlib.model import Model, Sensor
@@ -19,8 +21,21 @@ from quadlib.validation import (
     as_times,
 )
 
-__all__ = ["sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
+__all__ = ["gaussian_factor", "sample_sensor", "simulate_model", "with_dropouts", "with_outliers"]
 
+
+def gaussian_factor(cov) -> np.ndarray:
+    """The factor ``F`` (``F Fᵀ = cov``) that ``rng.multivariate_normal(mean, cov, method="eigh")``
+    builds: ``mean + (rng.standard_normal((1, n)) @ F.T)[0]`` is then the same draw, bit for bit,
+    without an eigendecomposition per sample. Warns as numpy does when ``cov`` is not positive
+    semidefinite."""
+    cov = as_finite_array("cov", cov, ndim=2)
+    if cov.shape[0] != cov.shape[1]:
+        raise ValueError(f"cov: expected a square matrix, got shape {cov.shape}")
+    s, u = np.linalg.eigh(cov)
+    if np.any(s < -1e-8):  # numpy's check, with its default tolerance
+        warnings.warn("covariance is not symmetric positive-semidefinite.", RuntimeWarning, stacklevel=2)
+    return u * np.sqrt(abs(s))
 
 
 def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> np.ndarray:
@@ -48,11 +63,17 @@ def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> n
     u = model.check_inputs(u, N)
     x = np.empty((N, model.dim_x))
     x[0] = model.check_state(x0, "x0")
+    # One draw per step, as rng.multivariate_normal(0, Q(dt), method="eigh") would make it, with
+    # the factor of Q(dt) computed once per distinct step length.
+    normals = rng.standard_normal((N - 1, model.dim_x)) if process_noise else None
+    factors = {}
     for k in range(1, N):
         dt = t[k] - t[k - 1]
         x[k] = model.g(x[k - 1], u[k - 1], dt)
         if process_noise:
-            x[k] += rng.multivariate_normal(np.zeros(model.dim_x), model.Q(dt), method="eigh")
+            if dt not in factors:
+                factors[dt] = gaussian_factor(model.Q(dt)).T
+            x[k] += (normals[k - 1:k] @ factors[dt])[0]
     return x
 
 

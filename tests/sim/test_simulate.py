@@ -3,7 +3,7 @@ import pytest
 
 from quadlib.quad.height import height_model, range_sensor
 from quadlib.quad.quad1d import climb_input
-from quadlib.sim.simulate import sample_sensor, simulate_model, with_dropouts, with_outage
+from quadlib.sim.simulate import gaussian_factor, sample_sensor, simulate_model, with_dropouts, with_outage
 from quadlib.sim.trajectories import step_profile
 
 
@@ -20,6 +20,37 @@ def test_process_noise_has_model_variance():
     x = simulate_model(m, [0.0], t, np.zeros((t.size, 1)), np.random.default_rng(1))
     steps = np.diff(x[:, 0])
     assert steps.std() == pytest.approx(0.5 * 0.1, rel=0.05)  # 2000 samples: sd of std ~1.6 %
+
+
+def test_simulation_draws_the_same_noise_as_multivariate_normal():
+    """The factor of Q(dt) is computed once per step length, yet every state equals, bit for bit,
+    the loop that calls rng.multivariate_normal(0, Q(dt), method="eigh") at each step."""
+    from quadlib.quad.quad3d import quad3d_model
+
+    for model in (height_model(0.5), quad3d_model(0.3, 0.05)):
+        t = np.cumsum(np.r_[0.0, np.tile([0.01, 0.02, 0.01000000001], 100)])  # three step lengths
+        u = np.random.default_rng(1).normal(size=(t.size, model.dim_u))
+        x0 = np.linspace(0.1, 0.2, model.dim_x)
+        fast = simulate_model(model, x0, t, u, np.random.default_rng(7))
+        rng, reference = np.random.default_rng(7), [x0]
+        for k in range(1, t.size):
+            dt = t[k] - t[k - 1]
+            reference.append(model.g(reference[-1], u[k - 1], dt)
+                             + rng.multivariate_normal(np.zeros(model.dim_x), model.Q(dt), method="eigh"))
+        np.testing.assert_array_equal(fast, np.array(reference))
+
+
+def test_gaussian_factor_reproduces_numpy_draws_and_warns_like_numpy():
+    a = np.array([[2.0, 0.0], [1.0, 1.0], [0.0, 0.5]])
+    cov = a @ a.T  # rank two: one eigenvalue zero, maybe a rounding below it
+    factor = gaussian_factor(cov)
+    np.testing.assert_allclose(factor @ factor.T, cov, atol=1e-14)
+    a, b = np.random.default_rng(3), np.random.default_rng(3)
+    for _ in range(50):
+        np.testing.assert_array_equal((a.standard_normal((1, 3)) @ factor.T)[0],
+                                      b.multivariate_normal(np.zeros(3), cov, method="eigh"))
+    with pytest.warns(RuntimeWarning, match="positive-semidefinite"):
+        gaussian_factor([[1.0, 0.0], [0.0, -1.0]])
 
 
 def test_sample_sensor_rate_noise_and_seed():
