@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from quadlib.geometry.quaternion import integrate_body_rate, quat_from_euler, quat_to_euler
+from quadlib.geometry import kernels
 from quadlib.geometry.rotations import accel_tilt
 from quadlib.validation import as_finite_array, as_float_array, as_positive, as_vector
 
@@ -110,7 +110,9 @@ def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initia
     for k in range(1, len(tilt)):
         if yaw is not None:
             psi = yaw[k - 1]
-        q_bar = integrate_body_rate(quat_from_euler(out[k - 1, 0], out[k - 1, 1], psi), gyro[k - 1], dt)
-        roll_bar, pitch_bar, psi = quat_to_euler(q_bar)
+        # integrate_body_rate, quat_from_euler and quat_to_euler on one quaternion (geometry.kernels)
+        q_prev = kernels.from_euler(out[k - 1, 0], out[k - 1, 1], psi)
+        q_bar = kernels.multiply(q_prev, kernels.exp_rotvec(gyro[k - 1] * dt))
+        roll_bar, pitch_bar, psi = kernels.to_euler(q_bar)
         out[k] = weight[k] * np.array([roll_bar, pitch_bar]) + (1.0 - weight[k]) * tilt[k]
     return out

@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-__all__ = ["body_vector_jacobian", "conjugate", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "multiply",
-           "normalize", "rate_matrix", "rotvec", "skew"]
+__all__ = ["body_vector_jacobian", "conjugate", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "from_euler",
+           "multiply", "normalize", "rate_matrix", "rotvec", "skew", "to_euler"]
 
 
 def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -69,6 +69,26 @@ def euler_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
     return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
                      [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
                      [-sp, cp * sr, cp * cr]])
+
+
+def from_euler(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """``q_nb`` of three Z-Y-X Euler angles [rad] (:func:`~quadlib.geometry.quaternion.quat_from_euler`)."""
+    cr, sr, cp, sp = math.cos(0.5 * roll), math.sin(0.5 * roll), math.cos(0.5 * pitch), math.sin(0.5 * pitch)
+    cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
+    return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
+
+
+def to_euler(q: np.ndarray) -> tuple[float, float, float]:
+    """Z-Y-X Euler angles ``(roll, pitch, yaw)`` [rad] of a unit ``q``, with the same choice at
+    gimbal lock (roll = 0) as :func:`~quadlib.geometry.quaternion.quat_to_euler`."""
+    w, x, y, z = q.tolist()
+    sin_pitch = min(1.0, max(-1.0, 2.0 * (w * y - x * z)))
+    if abs(sin_pitch) > 1.0 - 1e-12:
+        side = math.copysign(1.0, sin_pitch)
+        return 0.0, side * math.pi / 2, -side * 2.0 * math.atan2(x, w)
+    return (math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y)), math.asin(sin_pitch),
+            math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)))
 
 
 def from_dcm(R: np.ndarray) -> np.ndarray:

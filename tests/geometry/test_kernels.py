@@ -7,10 +7,12 @@ from quadlib.geometry import euler_to_dcm, kernels
 from quadlib.geometry.quaternion import (
     quat_conjugate,
     quat_from_dcm,
+    quat_from_euler,
     quat_from_rotvec,
     quat_multiply,
     quat_normalize,
     quat_to_dcm,
+    quat_to_euler,
     quat_to_rotvec,
     vector_jacobian,
 )
@@ -36,3 +38,14 @@ def test_each_kernel_equals_its_checked_namesake():
         np.testing.assert_allclose(kernels.rate_matrix(q), quaternion_rate_matrix(q), rtol=0, atol=0)
         np.testing.assert_allclose(kernels.body_vector_jacobian(q, v), vector_jacobian(q, v), rtol=1e-12,
                                    atol=1e-12 * np.abs(v).max())
+
+
+def test_euler_kernels_equal_their_checked_namesakes_including_gimbal_lock():
+    for _, q, v in CASES:
+        np.testing.assert_allclose(kernels.from_euler(*v), quat_from_euler(*v), rtol=0, atol=1e-15)
+        u = quat_normalize(q)
+        np.testing.assert_allclose(kernels.to_euler(u), quat_to_euler(u), rtol=0, atol=1e-15)
+    for pitch in (np.pi / 2, -np.pi / 2):  # roll and yaw not separable: both give roll 0
+        locked = quat_from_euler(0.3, pitch, -0.7)
+        np.testing.assert_allclose(kernels.to_euler(locked), quat_to_euler(locked), rtol=0, atol=1e-15)
+        assert kernels.to_euler(locked)[0] == 0.0
