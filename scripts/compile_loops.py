@@ -13,6 +13,7 @@ from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.imu import ImuNoise
+from quadlib.perception import cast_rays, corridor_map
 from quadlib.sim.imu import imu_samples
 
 
@@ -23,6 +24,7 @@ def main() -> None:
                       np.random.default_rng(1), field_n=earth_field_ned(50.0, np.radians(65.0)))
     for offline in (False, True):  # every loop: rest, both low-passes, the forward pass, the backward pass
         estimate_orientation(log, offline=offline)
+    cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 
