@@ -133,4 +133,6 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
         label.set_text(f"t = {t[k]:4.1f} s   roll = {np.degrees(x_true[k, 0]):5.1f}°   range = {range_m:4.2f} m")
         return body, beam, est, label
 
+    fig.canvas.draw()  # lay the figure out once: only artists inside the axes change between frames,
+    fig.set_layout_engine("none")  # so re-running the constrained layout for every frame gains nothing
     return fig, FuncAnimation(fig, draw, frames=frames, interval=100, blit=True)
