@@ -29,6 +29,7 @@ from filterpy.kalman import (
     MerweScaledSigmaPoints,
     UnscentedKalmanFilter,
 )
+from scipy.linalg.lapack import dpotrf
 
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import ModelFilter
@@ -191,6 +192,18 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         self._log_likelihood = self._likelihood = self._mahalanobis = None
 
 
+def _upper_cholesky(P: np.ndarray) -> np.ndarray:
+    """``U`` with ``Uᵀ U = P``: what ``scipy.linalg.cholesky(P)``, filterpy's default for the sigma
+    points, returns (the same LAPACK routine, so the same bits), without its argument handling,
+    which cost 8× the factorisation of a small ``P``."""
+    if not np.isfinite(P).all():
+        raise ValueError("P: expected a finite covariance for the sigma points, got infs or NaNs")
+    U, info = dpotrf(P, lower=0, clean=1)
+    if info > 0:
+        raise np.linalg.LinAlgError(f"{info}-th leading minor of the array is not positive definite")
+    return U
+
+
 def _positive_definite(P: np.ndarray) -> np.ndarray:
     """``P`` symmetrised and, if rounding made it indefinite, with its eigenvalues raised to a
     floor of 1e-12 of the largest. The UKF's ``P − K S Kᵀ`` (unlike the EKF's Joseph form) loses
@@ -255,7 +268,7 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         if points is None:
             points = MerweScaledSigmaPoints(
                 model.dim_P, alpha=as_positive("alpha", alpha), beta=float(beta), kappa=float(kappa),
-                subtract=residual_x,
+                sqrt_method=_upper_cholesky, subtract=residual_x,
             )
         UnscentedKalmanFilter.__init__(
             self, dim_x=model.dim_P, dim_z=1, dt=self.dt, hx=_no_default_hx,

@@ -378,3 +378,22 @@ def test_an_uncorrected_state_keeps_its_value_and_the_covariance_is_joseph_with_
                                                                   uncorrected=(2,)), [3.0])
     with pytest.raises(ValueError, match="uncorrected: expected distinct state indices"):
         Sensor("pos", ("p",), h=sensor.h, H=sensor.H, R=[[0.5]], uncorrected=(1, 1))
+
+
+def test_ukf_sigma_points_are_filterpys_default_bit_for_bit_and_bad_covariances_are_refused():
+    """ModelUKF factors P with LAPACK's potrf directly; filterpy's default is scipy.linalg.cholesky."""
+    from filterpy.kalman import MerweScaledSigmaPoints
+
+    from quadlib.quad.quad3d import quad3d_model
+
+    model = quad3d_model(0.3, 0.05)
+    rng = np.random.default_rng(9)
+    a = rng.normal(size=(7, 7))
+    P = a @ a.T + 1e-6 * np.eye(7)
+    ukf = ModelUKF(model, np.zeros(7), P, 0.01)
+    default = MerweScaledSigmaPoints(7, alpha=0.5, beta=2.0, kappa=0.0)
+    np.testing.assert_array_equal(ukf.points_fn.sigma_points(ukf.x, P), default.sigma_points(ukf.x, P))
+    with pytest.raises(ValueError, match="P: expected a finite covariance"):
+        ukf.points_fn.sigma_points(ukf.x, np.full((7, 7), np.nan))
+    with pytest.raises(np.linalg.LinAlgError, match="not positive definite"):
+        ukf.points_fn.sigma_points(ukf.x, -np.eye(7))
