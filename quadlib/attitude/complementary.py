@@ -76,19 +76,18 @@ def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None) -
     """The blog's complementary filter: ``(N, 2)`` roll and pitch [rad], gyro rates turned into
     Euler rates with the current estimate before integrating."""
     gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
-    out = np.empty_like(tilt)
-    roll, pitch = start
-    out[0] = start
-    for k in range(1, len(tilt)):
-        p, q, r = gyro[k - 1]
+    roll, pitch = (float(a) for a in start)
+    out = [(roll, pitch)]
+    # in Python floats (the same IEEE arithmetic as numpy's scalars, without their per-element cost)
+    for (p, q, r), (tilt_roll, tilt_pitch), a in zip(gyro[:-1].tolist(), tilt[1:].tolist(), weight[1:].tolist(),
+                                                     strict=True):
         sr, cr, tp = math.sin(roll), math.cos(roll), math.tan(pitch)
         roll_rate = p + (sr * q + cr * r) * tp  # first two rows of euler_rate_matrix
         pitch_rate = cr * q - sr * r
-        a = weight[k]
-        roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt[k, 0]
-        pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt[k, 1]
-        out[k] = roll, pitch
-    return out
+        roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt_roll
+        pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt_pitch
+        out.append((roll, pitch))
+    return np.array(out).reshape(-1, 2)
 
 
 def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initial=None) -> np.ndarray:
