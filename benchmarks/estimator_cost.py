@@ -1,5 +1,6 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (the
-orientation MEKF also compiled, :mod:`quadlib.attitude.compiled_mekf`).
+orientation MEKF and Salmony's fixed-wing EKF also compiled, :mod:`quadlib.attitude.compiled_mekf`
+and :mod:`quadlib.fixedwing.compiled_ekf`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,
@@ -62,11 +63,14 @@ def main() -> None:
 
     fw_noise = FixedWingNoise()
     fw = fixedwing_samples(fixedwing_flight(rate_hz=50.0), fw_noise, np.random.default_rng(3))
-    for name, factory, n in (("Salmony EKF", salmony_ekf, 1000), ("multiplicative EKF", multiplicative_ekf, 1000),
-                             ("error-state UKF", error_state_ukf, 200)):
+    for name, factory, n, compiled in (("Salmony EKF, compiled", salmony_ekf, len(fw), True),
+                                       ("Salmony EKF, readable run_filter", salmony_ekf, 1000, False),
+                                       ("multiplicative EKF", multiplicative_ekf, 1000, False),
+                                       ("error-state UKF", error_state_ukf, 200, False)):
         part = fw.slice(0, n)
         rows.append((f"fixed-wing {name} (a + m every step)",
-                     best_us_per_step(lambda f=factory, p=part: estimate_fixedwing_attitude(p, fw_noise, f), n)))
+                     best_us_per_step(lambda f=factory, p=part, c=compiled:
+                                      estimate_fixedwing_attitude(p, fw_noise, f, compiled=c), n)))
 
     run = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(4))
     tuning = Quad3DTuning()

@@ -12,6 +12,7 @@ import numpy as np
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
+from quadlib.fixedwing import FixedWingNoise, estimate_fixedwing_attitude, fixedwing_flight, fixedwing_samples
 from quadlib.imu import ImuNoise
 from quadlib.perception import cast_rays, corridor_map
 from quadlib.sim.imu import imu_samples
@@ -25,6 +26,8 @@ def main() -> None:
     for offline in (False, True):  # every loop: rest, both low-passes, the forward pass, the backward pass
         estimate_orientation(log, offline=offline)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
+    flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
+    estimate_fixedwing_attitude(fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100), noise)
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 

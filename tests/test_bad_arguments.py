@@ -487,7 +487,7 @@ PROBES = [
                                              np.random.default_rng(0)).slice(0, 60), noise=FixedWingNoise()),
           {"log": WRONG_TYPE, "noise": _wrong_type(FixedWingNoise), "filter_factory": WRONG_TYPE,
            "inclination_rad": BAD["finite"], "prefilter_hz": BAD["positive"],
-           "tuning": _wrong_type(FixedWingTuning)}),
+           "tuning": _wrong_type(FixedWingTuning), "compiled": WRONG_TYPE}),
     # nav
     Probe(estimate_ins, lambda: dict(log=_ins_log(), gps=INS_GPS, baro=Samples([0.0, 0.5], [100.0, 100.0])),
           {"log": WRONG_TYPE,

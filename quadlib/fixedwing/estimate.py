@@ -21,7 +21,9 @@ import numpy as np
 
 from quadlib.attitude.bias_model import as_attitude_state, attitude_bias_model
 from quadlib.attitude.complementary import euler_rate_complementary
+from quadlib.constants import G0, earth_field_ned
 from quadlib.filters import ModelEKF, ModelUKF
+from quadlib.fixedwing.compiled_ekf import salmony_pass
 from quadlib.fixedwing.model import (
     FixedWingNoise,
     fixedwing_accel_sensor,
@@ -33,8 +35,9 @@ from quadlib.geometry.rotations import mag_heading
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Sensor
-from quadlib.replay import FilterRun, run_filter
-from quadlib.samples import Measurements
+from quadlib.model_filter import gate_threshold
+from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
+from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
@@ -163,7 +166,7 @@ def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sen
 
 def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNoise(), filter_factory=salmony_ekf,
                                 inclination_rad: float | None = None, prefilter_hz: float | None = None,
-                                tuning: FixedWingTuning = FixedWingTuning()) -> FilterRun:
+                                tuning: FixedWingTuning = FixedWingTuning(), compiled: bool = True) -> FilterRun:
     """Attitude and gyro bias of a fixed-wing aircraft from its IMU, magnetometer and airspeed, in one call.
 
     Parameters
@@ -181,6 +184,11 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     prefilter_hz : float, optional
         Cut-off of Salmony's second-order prefilter; none by default.
     tuning : FixedWingTuning
+    compiled : bool
+        With :func:`salmony_ekf`, run the same steps compiled
+        (:mod:`~quadlib.fixedwing.compiled_ekf`; equal to ``run_filter``'s to 1e-10, tested); False
+        runs the readable filter, :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.run_filter`.
+        A log whose timestamps repeat within their precision always takes the readable one.
 
     Returns
     -------
@@ -194,13 +202,41 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as salmony_ekf, got {filter_factory!r}")
     tuning = as_instance("tuning", tuning, FixedWingTuning)
+    if not isinstance(compiled, bool):
+        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
     incl = noise.inclination_rad if inclination_rad is None else as_finite_number("inclination_rad", inclination_rad)
     dt = float(log.t[1] - log.t[0])
     filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
-    return run_filter(filt, log.t, log.gyro, fixedwing_measurements(log, noise.accel_sigma_m_s2, mag,
-                                                                    tuning.unmodelled_m_s2, prefilter_hz),
-                      gate_probability=tuning.gate_probability)
+    measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, tuning.unmodelled_m_s2, prefilter_hz)
+    if compiled and filter_factory is salmony_ekf and not (np.diff(log.t) <= time_resolution(log.t)).any():
+        run = _compiled_run(filt, log, measurements, noise, incl, tuning.gate_probability)
+        if run is not None:
+            return run
+    return run_filter(filt, log.t, log.gyro, measurements, gate_probability=tuning.gate_probability)
+
+
+def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list[Measurements], noise: FixedWingNoise,
+                  inclination_rad: float, gate_probability: float | None) -> FilterRun | None:
+    """What ``run_filter(ekf, log.t, log.gyro, measurements, gate_probability)`` returns, from
+    :func:`~quadlib.fixedwing.compiled_ekf.salmony_pass`; None if the estimate became non-finite
+    (the readable loop then names where)."""
+    n = len(log)
+    gyro, held = held_inputs(ekf.model, log.gyro, n)
+    accel, no_airspeed, mag = measurements
+    gyro_sigma, bias_walk, gyro_range = _process_noise(noise)
+    gate = 0.0 if gate_probability is None else gate_threshold(3, gate_probability)
+    xs, Ps, innovations, Ss, nis, used, rejected = salmony_pass(
+        log.t, gyro, accel.z, accel.context, no_airspeed.z, no_airspeed.context, mag.z, ekf.x[:, 0], ekf.P,
+        ekf.dt, gyro_sigma, bias_walk, gyro_range or 0.0, accel.sensor.R, no_airspeed.sensor.R, mag.sensor.R,
+        earth_field_ned(1.0, inclination_rad, noise.declination_rad), G0, gate)
+    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
+        return None
+    none = np.zeros(n, bool)
+    sensors = {m.sensor.name: SensorTrace(t=m.t, innovation=innovations[i], S=Ss[i], nis=nis[i], used=used[i],
+                                          rejected=rejected[i], reset=none, missing=m.missing, duplicate=none)
+               for i, m in enumerate(measurements)}
+    return FilterRun(t=log.t, x=xs, P=Ps, sensors=sensors, held_input=held)
 
 
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:
