@@ -1,6 +1,6 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (the
-orientation MEKF and Salmony's fixed-wing EKF also compiled, :mod:`quadlib.attitude.compiled_mekf`
-and :mod:`quadlib.fixedwing.compiled_ekf`).
+orientation MEKF and the fixed-wing EKF and error-state UKF also compiled,
+:mod:`quadlib.attitude.compiled_mekf` and :mod:`quadlib.fixedwing.compiled`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,
@@ -66,7 +66,8 @@ def main() -> None:
     for name, factory, n, compiled in (("Salmony EKF, compiled", salmony_ekf, len(fw), True),
                                        ("Salmony EKF, readable run_filter", salmony_ekf, 1000, False),
                                        ("multiplicative EKF", multiplicative_ekf, 1000, False),
-                                       ("error-state UKF", error_state_ukf, 200, False)):
+                                       ("error-state UKF, compiled", error_state_ukf, len(fw), True),
+                                       ("error-state UKF, readable run_filter", error_state_ukf, 200, False)):
         part = fw.slice(0, n)
         rows.append((f"fixed-wing {name} (a + m every step)",
                      best_us_per_step(lambda f=factory, p=part, c=compiled:

@@ -12,7 +12,14 @@ import numpy as np
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
-from quadlib.fixedwing import FixedWingNoise, estimate_fixedwing_attitude, fixedwing_flight, fixedwing_samples
+from quadlib.fixedwing import (
+    FixedWingNoise,
+    error_state_ukf,
+    estimate_fixedwing_attitude,
+    fixedwing_flight,
+    fixedwing_samples,
+    salmony_ekf,
+)
 from quadlib.imu import ImuNoise
 from quadlib.perception import cast_rays, corridor_map
 from quadlib.sim.imu import imu_samples
@@ -27,7 +34,9 @@ def main() -> None:
         estimate_orientation(log, offline=offline)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
-    estimate_fixedwing_attitude(fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100), noise)
+    fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)
+    for factory in (salmony_ekf, error_state_ukf):  # the fixed-wing filters
+        estimate_fixedwing_attitude(fw_log, noise, factory)
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 

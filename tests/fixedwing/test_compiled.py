@@ -1,12 +1,19 @@
-"""The compiled Salmony EKF gives what the readable one (ModelEKF driven by run_filter) gives: the same
-states, covariances and sensor traces, to 1e-10, through every branch — dropouts in every stream,
-held gyro rows, a failed pitot, gate rejections, a saturated gyro, no gate, a prefilter."""
+"""The compiled Salmony EKF and error-state UKF give what the readable ones (ModelEKF and ModelUKF
+driven by run_filter) give: the same states, covariances and sensor traces, to 1e-10, through every
+branch — dropouts in every stream, held gyro rows, a failed pitot, gate rejections, a saturated
+gyro, no gate, a prefilter."""
 
 import numpy as np
 import pytest
 
-from quadlib.fixedwing.compiled_ekf import salmony_pass
-from quadlib.fixedwing.estimate import FixedWingTuning, estimate_fixedwing_attitude, multiplicative_ekf
+from quadlib.fixedwing.compiled import error_state_ukf_pass, salmony_pass
+from quadlib.fixedwing.estimate import (
+    FixedWingTuning,
+    error_state_ukf,
+    estimate_fixedwing_attitude,
+    multiplicative_ekf,
+    salmony_ekf,
+)
 from quadlib.fixedwing.model import FixedWingNoise
 from quadlib.fixedwing.sim import aileron_roll, fixedwing_flight, fixedwing_samples
 from quadlib.imu import ImuLog
@@ -61,16 +68,18 @@ def _assert_same_run(compiled, readable):
                                        err_msg=f"{name}.{value}")
 
 
+@pytest.mark.parametrize("factory", [salmony_ekf, error_state_ukf], ids=["EKF", "ES-UKF"])
 @pytest.mark.parametrize("case", list(CASES))
-def test_the_compiled_loop_equals_the_readable_one(case):
+def test_the_compiled_loop_equals_the_readable_one(case, factory):
     log, noise, kw = CASES[case]
-    _assert_same_run(estimate_fixedwing_attitude(log, noise, **kw),
-                     estimate_fixedwing_attitude(log, noise, compiled=False, **kw))
+    _assert_same_run(estimate_fixedwing_attitude(log, noise, factory, **kw),
+                     estimate_fixedwing_attitude(log, noise, factory, compiled=False, **kw))
 
 
-def test_the_cases_reach_every_branch():
+@pytest.mark.parametrize("factory", [salmony_ekf, error_state_ukf], ids=["EKF", "ES-UKF"])
+def test_the_cases_reach_every_branch(factory):
     """The comparisons above are only worth something if each branch happened in them."""
-    run = estimate_fixedwing_attitude(FAULTY, NOISE)
+    run = estimate_fixedwing_attitude(FAULTY, NOISE, factory)
     assert run.held_input.sum() > 50
     for name in ("accel", "accel (no airspeed)", "mag"):
         trace = run.sensors[name]
@@ -80,7 +89,7 @@ def test_the_cases_reach_every_branch():
 
 
 def test_other_filters_and_repeated_timestamps_take_the_readable_loop():
-    """Only Salmony's EKF has a compiled twin; a log whose clock repeats a time goes to run_filter,
+    """The multiplicative EKF has no compiled twin; a log whose clock repeats a time goes to run_filter,
     which drops the repeated samples (the compiled loop does not handle them)."""
     short = FAULTY.slice(0, 300)
     mult = estimate_fixedwing_attitude(short, NOISE, multiplicative_ekf)
@@ -93,16 +102,20 @@ def test_other_filters_and_repeated_timestamps_take_the_readable_loop():
     _assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, compiled=False))
 
 
-def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite():
+@pytest.mark.parametrize("ukf", [False, True], ids=["EKF", "ES-UKF"])
+def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite(ukf):
     """NaN from that step on, instead of an exception inside the loop; the caller then hands the log
     to run_filter, which names the step (or the argument at fault)."""
     log = FAULTY.slice(0, 200)
     rates = np.nan_to_num(log.gyro)  # the accelerometer's context
     gyro = rates.copy()
     gyro[100] = 1e160  # the predict to step 101: φ·φ overflows
-    eye = np.eye(3)
-    xs, Ps, *_ = salmony_pass(log.t, gyro, log.accel, np.column_stack([rates, log.airspeed]), log.accel, rates,
-                              log.mag, np.r_[1.0, 0, 0, 0, 0, 0, 0], 0.01 * np.eye(7), 0.04, 0.005, 1e-4, 0.0,
-                              eye, eye, eye, np.array([0.4, 0.0, 0.9]), 9.8, 0.0)
+    args = (log.t, gyro, log.accel, np.column_stack([rates, log.airspeed]), log.accel, rates, log.mag,
+            np.r_[1.0, 0, 0, 0, 0, 0, 0], 0.01 * np.eye(6 if ukf else 7), 0.04, 0.005, 1e-4, 0.0,
+            np.stack([np.eye(3)] * 3), np.array([0.4, 0.0, 0.9]), 9.8, 0.0)
+    if ukf:
+        xs, Ps, *_ = error_state_ukf_pass(*args, np.r_[-3.0, [1 / 3] * 12], np.r_[-0.25, [1 / 3] * 12], 1.5)
+    else:
+        xs, Ps, *_ = salmony_pass(*args)
     assert np.isfinite(xs[:101]).all() and np.isfinite(Ps[:101]).all()
     assert np.isnan(xs[101:]).all() and np.isnan(Ps[101:]).all()
