@@ -111,6 +111,15 @@ def held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
     return arr, held
 
 
+def sample_steps(t: np.ndarray, grid_resolution: float, m: Measurements) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where :func:`run_filter` applies each sample of ``m`` on the input times ``t`` (given to
+    ``grid_resolution``): its step index (the first ``t[k]`` at or after its time, to within the
+    times' precision), whether it is missing, and whether it repeats the time before it (dropped)."""
+    tol = max(grid_resolution, m.time_resolution_s)
+    duplicate = np.r_[False, np.diff(m.t) <= tol]
+    return np.searchsorted(t, m.t - tol, side="left"), m.missing & ~duplicate, duplicate
+
+
 def run_filter(filt, t, u, measurements, gate_probability: float | None = None) -> FilterRun:
     """Run ``filt`` over a log: predict at every input time, update at every sample.
 
@@ -164,10 +173,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     schedule: dict[int, list] = {}  # step -> the updates applied after its predict
     missing, duplicate = [], []
     for i, m in enumerate(measurements):
-        tol = max(grid_resolution, m.time_resolution_s)
-        steps = np.searchsorted(t, m.t - tol, side="left")
-        dup = np.r_[False, np.diff(m.t) <= tol]
-        miss = m.missing & ~dup
+        steps, miss, dup = sample_steps(t, grid_resolution, m)
         missing.append(miss)
         duplicate.append(dup)
         gates = None if gate_probability is None or not m.sensor.gated else group_gates(m.sensor, gate_probability)

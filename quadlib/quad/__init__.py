@@ -1,6 +1,6 @@
 """The quadrotor models of Tellex et al. §5–7, their flights and the blog's pipeline."""
 
-from .estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf
+from .estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf, quad3d_ukf
 from .flight import (
     Flight3D,
     SensorNoise3D,
@@ -50,6 +50,7 @@ __all__ = [
     "quad2d_range_sensor",
     "quad3d_baro_sensor",
     "quad3d_ekf",
+    "quad3d_ukf",
     "quad3d_gps_sensor",
     "quad3d_mag_sensor",
     "quad3d_model",

@@ -6,14 +6,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.filters import ModelEKF
+from quadlib.constants import G0
+from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
-from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model
-from quadlib.replay import FilterRun, run_filter
-from quadlib.samples import Measurements, Samples
+from quadlib.quad.compiled import quad3d_ekf_pass, quad3d_ukf_pass
+from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
+from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter, sample_steps
+from quadlib.samples import Measurements, Samples, time_resolution
 from quadlib.validation import as_instance, as_times, as_vector, check_fields
 
-__all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf"]
+__all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
 
 
 @dataclass(frozen=True)
@@ -71,8 +73,16 @@ def quad3d_ekf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelEKF
     return ModelEKF(tuning.model(), x0, tuning.P0, dt)
 
 
+def quad3d_ukf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelUKF:
+    """The same model in a UKF (default sigma points, α = 0.5; the yaw averaged on the circle,
+    :func:`~quadlib.quad.quad3d.quad3d_ukf_options`)."""
+    tuning = as_instance("tuning", tuning, Quad3DTuning)
+    return ModelUKF(tuning.model(), x0, tuning.P0, dt, **quad3d_ukf_options())
+
+
 def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTuning = Quad3DTuning(),
-                    gate_probability: float | None = None) -> FilterRun:
+                    gate_probability: float | None = None, filter_factory=quad3d_ekf,
+                    compiled: bool = True) -> FilterRun:
     """Position, velocity and yaw of a quadrotor from its IMU inputs, GPS and magnetometer, in one call.
 
     Parameters
@@ -91,6 +101,12 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     tuning : Quad3DTuning
     gate_probability : float in (0, 1), optional
         χ² gate on each update's NIS (see :func:`quadlib.run_filter`).
+    filter_factory : callable
+        :func:`quad3d_ekf` (default) or :func:`quad3d_ukf`.
+    compiled : bool
+        Without a gate, run the same steps compiled (:mod:`~quadlib.quad.compiled`; equal to
+        ``run_filter``'s to 1e-10, tested); False, or a gate, runs the readable filter driven by
+        :func:`~quadlib.run_filter`.
 
     Returns
     -------
@@ -105,9 +121,58 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
             raise ValueError("gps, mag: expected at least one sample of each to start from, got none")
         x0 = np.concatenate([gps.z[0], mag.z[0]])
     x0 = as_vector("x0", x0, 7)
+    grid_resolution = time_resolution(t)
     t = as_times("t", t)
     tuning = as_instance("tuning", tuning, Quad3DTuning)
+    if not callable(filter_factory):
+        raise TypeError(f"filter_factory: expected a callable such as quad3d_ekf, got {filter_factory!r}")
+    if not isinstance(compiled, bool):
+        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
     gps_sensor, mag_sensor = tuning.sensors()
-    return run_filter(quad3d_ekf(x0, float(t[1] - t[0]), tuning), t, u,
-                      [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)],
-                      gate_probability=gate_probability)
+    filt = filter_factory(x0, float(t[1] - t[0]), tuning)
+    measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
+    if compiled and gate_probability is None and filter_factory in (quad3d_ekf, quad3d_ukf):
+        run = _compiled_run(filt, t, grid_resolution, u, measurements, tuning)
+        if run is not None:
+            return run
+    return run_filter(filt, t, u, measurements, gate_probability=gate_probability)
+
+
+def _compiled_run(filt: ModelEKF | ModelUKF, t: np.ndarray, grid_resolution: float, u, measurements: list,
+                  tuning: Quad3DTuning) -> FilterRun | None:
+    """What ``run_filter(filt, t, u, measurements)`` returns, from
+    :func:`~quadlib.quad.compiled.quad3d_ekf_pass` or :func:`~quadlib.quad.compiled.quad3d_ukf_pass`;
+    None if the estimate became non-finite (the readable loop then names where)."""
+    n = t.size
+    u, held = held_inputs(filt.model, u, n)
+    for i, m in enumerate(measurements):  # what run_filter checks before its loop
+        filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
+        tol = max(grid_resolution, m.time_resolution_s)
+        if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
+            return None  # run_filter names the times
+    schedule = [sample_steps(t, grid_resolution, m) for m in measurements]
+    steps, sensors, samples = (np.concatenate(a) for a in zip(*[
+        (s[~miss & ~dup], np.full((~miss & ~dup).sum(), i), np.flatnonzero(~miss & ~dup))
+        for i, (s, miss, dup) in enumerate(schedule)], strict=True))
+    order = np.lexsort((samples, sensors, steps))  # by step, then sensor, then sample: run_filter's order
+    gps, mag = measurements
+    sa = np.broadcast_to(np.asarray(tuning.accel_sigma_m_s2, dtype=float), (3,)).copy()
+    args = (t, u, steps[order], sensors[order], samples[order], gps.z, mag.z, filt.state_view().copy(), filt.P,
+            filt.dt, sa, float(tuning.yaw_rate_sigma_rad_s), G0, gps.sensor.R, mag.sensor.R)
+    if isinstance(filt, ModelUKF):
+        points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
+        lam = points.alpha**2 * (points.n + points.kappa) - points.n
+        xs, Ps, *traces = quad3d_ukf_pass(*args, filt.Wm, filt.Wc, lam + points.n)
+    else:
+        xs, Ps, *traces = quad3d_ekf_pass(*args)
+    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
+        return None
+    out = {}
+    for i, m in enumerate(measurements):
+        innovation, S, nis = traces[3 * i:3 * i + 3]
+        _, miss, dup = schedule[i]
+        applied = ~miss & ~dup
+        none = np.zeros(m.t.size, bool)
+        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=applied, rejected=none,
+                                         reset=none, missing=miss, duplicate=dup)
+    return FilterRun(t=t, x=xs, P=Ps, sensors=out, held_input=held)

@@ -12,7 +12,7 @@ from quadlib.quad.scenario import run3d_measurements, simulate_run3d
 
 def test_the_one_call_ekf_is_chapter_8s_filter():
     run = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(31))
-    result = estimate_quad3d(run.t, run.u, run.gps, run.mag)
+    result = estimate_quad3d(run.t, run.u, run.gps, run.mag, compiled=False)  # bit for bit: the readable loop
     x0 = np.concatenate([run.gps.z[0], run.mag.z[0]])
     by_hand = run_filter(ModelEKF(quad3d_model([2.0, 2.0, 1.5 / np.sqrt(10)], 0.5 / np.sqrt(10)), x0,
                                   np.diag([1.0, 1.0, 2.0, 0.1, 0.1, 0.3, 0.1]) ** 2, run.t[1] - run.t[0]),

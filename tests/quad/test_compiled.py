@@ -1,0 +1,93 @@
+"""The compiled 3D quadrotor EKF and UKF give what the readable ones (ModelEKF and ModelUKF driven by
+run_filter) give: the same states, covariances and sensor traces, to 1e-10 — with samples between
+the steps, a GPS outage, magnetometer dropouts, a repeated timestamp, held input rows, a heading that
+crosses ±180°, and a start far from the truth."""
+
+import numpy as np
+import pytest
+
+from quadlib.quad.compiled import quad3d_ekf_pass
+from quadlib.quad.estimate import estimate_quad3d, quad3d_ekf, quad3d_ukf
+from quadlib.quad.flight import SensorNoise3D, square_course
+from quadlib.quad.scenario import simulate_run3d
+from quadlib.samples import Samples
+
+RUN = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(8), decimate=10,
+                     tau=5.0)
+
+
+def _faulty():
+    """RUN with a 3 s GPS outage, 10 % of the headings missing, one heading repeated at the same time
+    (dropped), 5 % of the input rows missing (held), and a start 3 m and 40° off."""
+    rng = np.random.default_rng(9)
+    gps_z = RUN.gps.z.copy()
+    gps_z[(RUN.gps.t > 6.0) & (RUN.gps.t < 9.0)] = np.nan
+    mag_t, mag_z = RUN.mag.t.copy(), RUN.mag.z.copy()
+    mag_z[rng.random(mag_t.size) < 0.1] = np.nan
+    mag_t[501] = mag_t[500]
+    u = RUN.u.copy()
+    u[1:][rng.random(u.shape[0] - 1) < 0.05] = np.nan
+    x0 = RUN.truth[0] + np.r_[3.0, 0.0, 0.0, 0.0, 0.0, 0.0, np.radians(40.0)]
+    return u, Samples(RUN.gps.t, gps_z), Samples(mag_t, mag_z), x0
+
+
+U, GPS, MAG, X0 = _faulty()
+CASES = {"clean": (RUN.u, RUN.gps, RUN.mag, RUN.truth[0]), "faults": (U, GPS, MAG, X0)}
+
+
+def _assert_same_run(compiled, readable):
+    np.testing.assert_allclose(compiled.x, readable.x, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(compiled.P, readable.P, rtol=0, atol=1e-10)
+    assert np.array_equal(compiled.held_input, readable.held_input)
+    assert list(compiled.sensors) == list(readable.sensors)
+    for name, a in compiled.sensors.items():
+        b = readable.sensors[name]
+        np.testing.assert_array_equal(a.t, b.t)
+        for flag in ("used", "rejected", "reset", "missing", "duplicate"):
+            assert np.array_equal(getattr(a, flag), getattr(b, flag)), (name, flag)
+        for value in ("innovation", "S", "nis"):
+            np.testing.assert_allclose(getattr(a, value), getattr(b, value), rtol=1e-9, atol=1e-10,
+                                       err_msg=f"{name}.{value}")
+
+
+@pytest.mark.parametrize("factory", [quad3d_ekf, quad3d_ukf], ids=["EKF", "UKF"])
+@pytest.mark.parametrize("case", list(CASES))
+def test_the_compiled_loop_equals_the_readable_one(case, factory):
+    u, gps, mag, x0 = CASES[case]
+    _assert_same_run(estimate_quad3d(RUN.t, u, gps, mag, x0, filter_factory=factory),
+                     estimate_quad3d(RUN.t, u, gps, mag, x0, filter_factory=factory, compiled=False))
+
+
+def test_the_cases_reach_every_branch():
+    """The comparisons above are only worth something if each branch happened in them."""
+    run = estimate_quad3d(RUN.t, U, GPS, MAG, X0)
+    assert run.held_input.sum() > 30
+    assert run.sensors["gps"].missing.sum() >= 25 and run.sensors["mag"].missing.sum() > 100
+    assert run.sensors["mag"].duplicate.sum() == 1
+    assert np.searchsorted(RUN.t, MAG.t).max() > np.searchsorted(RUN.t, MAG.t)[1]  # samples between steps
+    yaw = RUN.truth[:, 6]
+    assert (np.abs(np.diff(yaw)) > np.pi).any()  # the heading wraps
+    per_step = np.bincount(np.searchsorted(RUN.t, MAG.t))
+    assert per_step.max() >= 2  # more than one heading in a step
+
+
+def test_a_gate_takes_the_readable_loop():
+    """The compiled loops have no gate: with one, the readable loop runs (and can reject)."""
+    gps_z = RUN.gps.z.copy()
+    gps_z[40:45, :3] += 30.0  # a jump
+    gps = Samples(RUN.gps.t, gps_z)
+    gated = estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999)
+    assert gated.sensors["gps"].rejected.any()
+    _assert_same_run(gated, estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999,
+                                            compiled=False))
+
+
+def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite():
+    u = RUN.u.copy()
+    u[100, 0] = 1e308  # the velocity overflows in the step to 101
+    steps = np.searchsorted(RUN.t, RUN.mag.t)
+    xs, Ps, *_ = quad3d_ekf_pass(RUN.t, u, steps, np.ones(steps.size, np.int64), np.arange(steps.size),
+                                 RUN.gps.z, RUN.mag.z, RUN.truth[0], np.eye(7), 0.02, np.ones(3), 0.1, 9.8,
+                                 np.eye(6), np.eye(1))
+    assert np.isfinite(xs[:101]).all() and np.isfinite(Ps[:101]).all()
+    assert np.isnan(xs[102:]).all() and np.isnan(Ps[102:]).all()
