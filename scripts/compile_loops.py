@@ -22,6 +22,7 @@ from quadlib.fixedwing import (
 )
 from quadlib.imu import ImuNoise
 from quadlib.perception import cast_rays, corridor_map
+from quadlib.quad import SensorNoise3D, estimate_quad3d, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
 from quadlib.sim.imu import imu_samples
 
 
@@ -37,6 +38,9 @@ def main() -> None:
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)
     for factory in (salmony_ekf, error_state_ukf):  # the fixed-wing filters
         estimate_fixedwing_attitude(fw_log, noise, factory)
+    run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
+    for factory in (quad3d_ekf, quad3d_ukf):  # chapter 8's filters
+        estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 
