@@ -12,6 +12,7 @@ import numpy as np
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
+from quadlib.control import altitude_step, fly
 from quadlib.fixedwing import (
     FixedWingNoise,
     error_state_ukf,
@@ -38,6 +39,7 @@ def main() -> None:
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)
     for factory in (salmony_ekf, error_state_ukf):  # the fixed-wing filters
         estimate_fixedwing_attitude(fw_log, noise, factory)
+    fly(altitude_step(), 0.1)  # the closed loop's vehicle
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 8's filters
         estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)

@@ -25,7 +25,7 @@ from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.constants import G0
 from quadlib.control.controllers import AltitudePid, AttitudePid, PositionController, attitude_pid_gains
 from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
-from quadlib.control.vehicle import QuadrotorParams, _derivative, _step, hover_state
+from quadlib.control.vehicle import QuadrotorParams, constants, derivative_compiled, hover_state, step_compiled
 from quadlib.filters import LinearKF, ModelEKF
 from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate, quat_to_rotvec
@@ -220,12 +220,12 @@ class _Filters:
         return s[0], s[1], q_hat, omega_hat
 
 
-def _read_sensors(params: QuadrotorParams, sensors: LoopSensors, X, thrust, k: int, rng):
+def _read_sensors(vehicle: tuple, sensors: LoopSensors, X, thrust, k: int, rng):
     """The IMU at control step ``k`` from the true state, the magnetometer and barometer on their
-    own periods (None between samples)."""
+    own periods (None between samples). ``vehicle``: the constants of the vehicle's parameters."""
     n = sensors.noise
     R = kernels.dcm(X[6:10])
-    f_b = R.T @ (_derivative(params, X, thrust)[3:6] - np.array([0.0, 0.0, G0]))  # specific force
+    f_b = R.T @ (derivative_compiled(X, thrust, *vehicle)[3:6] - np.array([0.0, 0.0, G0]))  # specific force
     gyro = X[10:13] + np.asarray(n.gyro_bias_rad_s, dtype=float) + rng.standard_normal(3) * n.gyro_sigma_rad_s
     accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
     mag = R.T @ n.field_n + rng.standard_normal(3) * n.mag_sigma if k % sensors.every(sensors.mag_period_s) == 0 \
@@ -290,6 +290,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         raise ValueError(f"altitude_gains: expected finite gains, got {gains}")
     C = attitude_pid_gains(params) if attitude_gains is None else _as_gains(attitude_gains)
     altitude_pid, attitude_pid = AltitudePid(gains, params.hover_thrust_n), AttitudePid(*C)
+    vehicle = constants(params)  # for the compiled vehicle step
 
     dt = sensors.imu_period_s
     K = int(round(duration / dt)) + 1
@@ -309,7 +310,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         if filters is None:
             s_hat, v_hat, q_hat, omega_hat = -X[2], -X[5], q, omega
         else:
-            gyro, accel, mag, baro = _read_sensors(params, sensors, X, thrust, k, rng)
+            gyro, accel, mag, baro = _read_sensors(vehicle, sensors, X, thrust, k, rng)
             s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt, q, omega)
         thrust_z = altitude_pid.thrust(s_hat, v_hat, ref.s, ref.v, dt)
         thrust = attitude_pid.thrusts(thrust_z, q_hat, omega_hat, ref.q_nb, ref.omega, dt)
@@ -317,7 +318,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
                            ("s_ref", ref.s), ("q_ref", ref.q_nb), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
         for _ in range(physics_steps):
-            X = _step(params, X, thrust, dt / physics_steps)
+            X = step_compiled(X, thrust, dt / physics_steps, *vehicle)
     state = np.array(out["state"])
     return ClosedLoopRun(t=np.arange(K) * dt, state=state, height=-state[:, 2], climb=-state[:, 5],
                          height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),
@@ -401,6 +402,7 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
 
     C = attitude_pid_gains(params)
     controller = PositionController(AttitudePid(*C), params.mass_kg)
+    vehicle = constants(params)  # for the compiled vehicle step
     K = (path.t.size - 1) // every_path + 1
     yaw = np.unwrap(path.euler[:, 2])
     X = hover_state(params, -path.pos[0, 2], path.q_nb[0])
@@ -421,7 +423,7 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
         if ekf is None:
             p_hat, v_hat, q_hat, omega_hat = X[0:3], X[3:6], X[6:10], X[10:13]
         else:
-            gyro, accel, mag, baro = _read_sensors(params, sensors, X, thrust, k, rng)
+            gyro, accel, mag, baro = _read_sensors(vehicle, sensors, X, thrust, k, rng)
             if k:
                 ekf.predict(np.concatenate([gyro, accel]), dt)
             if k % gps_every == 0:
@@ -438,5 +440,5 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
         for key, value in (("state", X), ("pos_ref", path.pos[j]), ("pos_est", p_hat), ("vel_est", v_hat),
                            ("q_est", q_hat), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
-        X = _step(params, X, thrust, dt)
+        X = step_compiled(X, thrust, dt, *vehicle)
     return PathRun(t=np.arange(K) * dt, **{k: np.array(v) for k, v in out.items()})
