@@ -25,9 +25,8 @@ bit, to the readable :func:`quadrotor_derivative` and :func:`quadrotor_step`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
