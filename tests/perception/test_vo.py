@@ -64,6 +64,22 @@ def test_noise_free_features_give_the_relative_pose_exactly(move, turn):
     assert _angle(t, t_true) <= 1e-9 and np.linalg.norm(t) == pytest.approx(1.0)
 
 
+def test_the_eight_point_solution_is_the_full_svds_bit_for_bit():
+    """With more than eight pairs the reduced SVD is used (no N × N left factor); its last right
+    singular vector is the full SVD's, to the bit — chapter 16's stored outputs rely on it."""
+    rng = np.random.default_rng(3)
+    x1, x2, _, _ = _pair(CAMERA_IN_BODY, [0.0, 0.0, -2.0], _rotation([0.02, -0.1, 0.03]) @ CAMERA_IN_BODY,
+                         [0.3, -0.2, -2.1], sigma=1.0, rng=rng)
+    for n in (8, 9, 20, len(x1)):
+        for _ in range(20):
+            pick = rng.choice(len(x1), n, replace=False)
+            A = np.einsum("ni,nj->nij", x2[pick], x1[pick]).reshape(-1, 9)
+            E = np.linalg.svd(A)[2][-1].reshape(3, 3)  # the full SVD, as the method is written
+            U, _, Vt = np.linalg.svd(E)
+            np.testing.assert_array_equal(essential_eight_point(x1[pick], x2[pick]),
+                                          U @ np.diag([1.0, 1.0, 0.0]) @ Vt / np.sqrt(2.0))
+
+
 def test_the_four_decompositions_hold_the_truth_once_and_triangulation_is_exact():
     x1, x2, R_true, t_true = _pair(CAMERA_IN_BODY, [0.0, 0.0, -2.0], CAMERA_IN_BODY, [0.6, 0.2, -2.0])
     options = decompose_essential(essential_eight_point(x1, x2))
