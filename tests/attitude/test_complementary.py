@@ -74,3 +74,16 @@ def test_free_fall_and_missing_samples_leave_the_gyro_alone():
         assert np.isfinite(out).all()
     with pytest.raises(ValueError, match="accel: expected a first sample that gives a tilt"):
         linear_complementary(dt, gyro, np.zeros((n, 3)), 1.0)
+
+
+def test_the_compiled_euler_rate_loop_equals_the_readable_one_bit_for_bit():
+    """simulate_run3d and the fixed-wing comparison use it; chapters store its every bit."""
+    rng = np.random.default_rng(6)
+    n = 3000
+    gyro = rng.normal(0.0, 1.5, (n, 3))
+    accel = np.tile([0.0, 0.0, -9.80665], (n, 1)) + rng.normal(0.0, 2.0, (n, 3))
+    accel[500:600] = 0.0  # free fall
+    accel[rng.random(n) < 0.05] = np.nan  # dropouts
+    for tau, initial in ((1.0, None), (0.2, [0.3, -0.2]), (5.0, None)):
+        np.testing.assert_array_equal(euler_rate_complementary(0.004, gyro, accel, tau, initial, compiled=True),
+                                      euler_rate_complementary(0.004, gyro, accel, tau, initial))
