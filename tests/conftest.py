@@ -1,3 +1,28 @@
 import matplotlib
+import numpy as np
+import pytest
 
 matplotlib.use("Agg")
+
+
+def _assert_same_run(compiled, readable):
+    """Two FilterRuns of the same filter agree: states and covariances to 1e-10, the same flags,
+    innovations, S and NIS to 1e-9 relative."""
+    np.testing.assert_allclose(compiled.x, readable.x, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(compiled.P, readable.P, rtol=0, atol=1e-10)
+    assert np.array_equal(compiled.held_input, readable.held_input)
+    assert list(compiled.sensors) == list(readable.sensors)
+    for name, a in compiled.sensors.items():
+        b = readable.sensors[name]
+        np.testing.assert_array_equal(a.t, b.t)
+        for flag in ("used", "rejected", "reset", "missing", "duplicate"):
+            assert np.array_equal(getattr(a, flag), getattr(b, flag)), (name, flag)
+        for value in ("innovation", "S", "nis"):
+            np.testing.assert_allclose(getattr(a, value), getattr(b, value), rtol=1e-9, atol=1e-10,
+                                       err_msg=f"{name}.{value}")
+
+
+@pytest.fixture
+def assert_same_run():
+    """The check that a compiled filter gives what its readable twin gives (see ``_assert_same_run``)."""
+    return _assert_same_run

@@ -39,20 +39,6 @@ SIMULATED, GYRO_RANGE = _simulated_log()
 BROAD = load_broad_trial("24_disturbed_tapping_A").log.slice(0, 2500)  # rest, then the first taps
 
 
-def _assert_same_run(compiled, readable):
-    np.testing.assert_allclose(compiled.x, readable.x, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(compiled.P, readable.P, rtol=0, atol=1e-10)
-    assert np.array_equal(compiled.held_input, readable.held_input)
-    assert compiled.sensors.keys() == readable.sensors.keys()
-    for name, a in compiled.sensors.items():
-        b = readable.sensors[name]
-        for flag in ("used", "rejected", "reset", "missing", "duplicate"):
-            assert np.array_equal(getattr(a, flag), getattr(b, flag)), (name, flag)
-        for value in ("innovation", "S", "nis"):
-            np.testing.assert_allclose(getattr(a, value), getattr(b, value), rtol=1e-9, atol=1e-10,
-                                       err_msg=f"{name}.{value}")
-
-
 CASES = {
     "BROAD slice": (BROAD, OrientationParams()),
     "simulated, tight gate": (SIMULATED, OrientationParams(gate_probability=0.9, gyro_range_rad_s=GYRO_RANGE,
@@ -64,11 +50,11 @@ CASES = {
 
 @pytest.mark.parametrize("offline", [False, True], ids=["forward", "smoother"])
 @pytest.mark.parametrize("case", list(CASES))
-def test_the_compiled_loop_equals_the_readable_one(case, offline):
+def test_the_compiled_loop_equals_the_readable_one(case, offline, assert_same_run):
     log, params = CASES[case]
     compiled = orientation_run(log, params, offline=offline)
     readable = orientation_run(log, params, offline=offline, compiled=False)
-    _assert_same_run(compiled, readable)
+    assert_same_run(compiled, readable)
 
 
 def test_the_cases_reach_every_branch():
@@ -99,7 +85,7 @@ def test_the_compiled_lowpasses_equal_their_interpreted_source():
     assert inertial_lowpass(SIMULATED, 3.0).shape == accel.shape
 
 
-def test_repeated_timestamps_run_the_readable_loop():
+def test_repeated_timestamps_run_the_readable_loop(assert_same_run):
     """run_filter drops a sample whose time repeats the one before within its precision; the
     compiled loop does not, so such a log goes to the readable one (same result either way)."""
     t = SIMULATED.t.copy()
@@ -107,4 +93,4 @@ def test_repeated_timestamps_run_the_readable_loop():
     log = ImuLog(t, SIMULATED.gyro, SIMULATED.accel, SIMULATED.mag)
     compiled, readable = orientation_run(log), orientation_run(log, compiled=False)
     assert readable.sensors["gravity"].duplicate[100]
-    _assert_same_run(compiled, readable)
+    assert_same_run(compiled, readable)

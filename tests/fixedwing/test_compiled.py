@@ -53,26 +53,11 @@ CASES = {
 }
 
 
-def _assert_same_run(compiled, readable):
-    np.testing.assert_allclose(compiled.x, readable.x, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(compiled.P, readable.P, rtol=0, atol=1e-10)
-    assert np.array_equal(compiled.held_input, readable.held_input)
-    assert list(compiled.sensors) == list(readable.sensors)
-    for name, a in compiled.sensors.items():
-        b = readable.sensors[name]
-        np.testing.assert_array_equal(a.t, b.t)
-        for flag in ("used", "rejected", "reset", "missing", "duplicate"):
-            assert np.array_equal(getattr(a, flag), getattr(b, flag)), (name, flag)
-        for value in ("innovation", "S", "nis"):
-            np.testing.assert_allclose(getattr(a, value), getattr(b, value), rtol=1e-9, atol=1e-10,
-                                       err_msg=f"{name}.{value}")
-
-
 @pytest.mark.parametrize("factory", [salmony_ekf, error_state_ukf], ids=["EKF", "ES-UKF"])
 @pytest.mark.parametrize("case", list(CASES))
-def test_the_compiled_loop_equals_the_readable_one(case, factory):
+def test_the_compiled_loop_equals_the_readable_one(case, factory, assert_same_run):
     log, noise, kw = CASES[case]
-    _assert_same_run(estimate_fixedwing_attitude(log, noise, factory, **kw),
+    assert_same_run(estimate_fixedwing_attitude(log, noise, factory, **kw),
                      estimate_fixedwing_attitude(log, noise, factory, compiled=False, **kw))
 
 
@@ -88,7 +73,7 @@ def test_the_cases_reach_every_branch(factory):
     assert (np.abs(ROLL_LOG.gyro) >= 0.999 * 30.0).any(axis=1).sum() > 20  # saturated steps
 
 
-def test_other_filters_and_repeated_timestamps_take_the_readable_loop():
+def test_other_filters_and_repeated_timestamps_take_the_readable_loop(assert_same_run):
     """The multiplicative EKF has no compiled twin; a log whose clock repeats a time goes to run_filter,
     which drops the repeated samples (the compiled loop does not handle them)."""
     short = FAULTY.slice(0, 300)
@@ -99,7 +84,7 @@ def test_other_filters_and_repeated_timestamps_take_the_readable_loop():
     repeated = ImuLog(t, short.gyro, short.accel, short.mag, short.airspeed)
     run = estimate_fixedwing_attitude(repeated, NOISE)
     assert run.sensors["mag"].duplicate[150]
-    _assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, compiled=False))
+    assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, compiled=False))
 
 
 @pytest.mark.parametrize("ukf", [False, True], ids=["EKF", "ES-UKF"])

@@ -35,26 +35,11 @@ U, GPS, MAG, X0 = _faulty()
 CASES = {"clean": (RUN.u, RUN.gps, RUN.mag, RUN.truth[0]), "faults": (U, GPS, MAG, X0)}
 
 
-def _assert_same_run(compiled, readable):
-    np.testing.assert_allclose(compiled.x, readable.x, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(compiled.P, readable.P, rtol=0, atol=1e-10)
-    assert np.array_equal(compiled.held_input, readable.held_input)
-    assert list(compiled.sensors) == list(readable.sensors)
-    for name, a in compiled.sensors.items():
-        b = readable.sensors[name]
-        np.testing.assert_array_equal(a.t, b.t)
-        for flag in ("used", "rejected", "reset", "missing", "duplicate"):
-            assert np.array_equal(getattr(a, flag), getattr(b, flag)), (name, flag)
-        for value in ("innovation", "S", "nis"):
-            np.testing.assert_allclose(getattr(a, value), getattr(b, value), rtol=1e-9, atol=1e-10,
-                                       err_msg=f"{name}.{value}")
-
-
 @pytest.mark.parametrize("factory", [quad3d_ekf, quad3d_ukf], ids=["EKF", "UKF"])
 @pytest.mark.parametrize("case", list(CASES))
-def test_the_compiled_loop_equals_the_readable_one(case, factory):
+def test_the_compiled_loop_equals_the_readable_one(case, factory, assert_same_run):
     u, gps, mag, x0 = CASES[case]
-    _assert_same_run(estimate_quad3d(RUN.t, u, gps, mag, x0, filter_factory=factory),
+    assert_same_run(estimate_quad3d(RUN.t, u, gps, mag, x0, filter_factory=factory),
                      estimate_quad3d(RUN.t, u, gps, mag, x0, filter_factory=factory, compiled=False))
 
 
@@ -71,14 +56,14 @@ def test_the_cases_reach_every_branch():
     assert per_step.max() >= 2  # more than one heading in a step
 
 
-def test_a_gate_takes_the_readable_loop():
+def test_a_gate_takes_the_readable_loop(assert_same_run):
     """The compiled loops have no gate: with one, the readable loop runs (and can reject)."""
     gps_z = RUN.gps.z.copy()
     gps_z[40:45, :3] += 30.0  # a jump
     gps = Samples(RUN.gps.t, gps_z)
     gated = estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999)
     assert gated.sensors["gps"].rejected.any()
-    _assert_same_run(gated, estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999,
+    assert_same_run(gated, estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999,
                                             compiled=False))
 
 
