@@ -32,48 +32,21 @@ import math
 import numpy as np
 from numba import njit
 
+from quadlib.compiled_kernels import (
+    body_vector_jacobian,
+    dcm,
+    exp_rotvec,
+    kalman_update,
+    multiply,
+    normalize,
+    rate_matrix,
+    rotvec,
+    skew,
+    wrap,
+)
 from quadlib.imu import SATURATED
 
 __all__: list[str] = []  # internal: orientation.py is the interface
-
-
-@njit(cache=True)
-def _multiply(p, q):
-    return np.array([p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3],
-                     p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2],
-                     p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1],
-                     p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0]])
-
-
-@njit(cache=True)
-def _exp_rotvec(v):
-    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
-    return np.array([math.cos(0.5 * angle), half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]])
-
-
-@njit(cache=True)
-def _dcm(q):
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    ww, xx, yy, zz = w * w, x * x, y * y, z * z
-    return np.array([[ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz]])
-
-
-@njit(cache=True)
-def _rate_matrix(q):
-    return np.array([[-q[1], -q[2], -q[3]], [q[0], -q[3], q[2]], [q[3], q[0], -q[1]], [-q[2], q[1], q[0]]])
-
-
-@njit(cache=True)
-def _normalize(q):
-    return q / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-
-
-@njit(cache=True)
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
 @njit(cache=True)
@@ -88,62 +61,22 @@ def _error_jacobian(phi, dt):
     """``∂δx⁺/∂δx`` of one gyro step ``φ = (ω − b) Δt``
     (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
     theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-    K = _skew(phi)
+    K = skew(phi)
     if theta > 1e-6:
         a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
     else:
         a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
     G = np.eye(6)
-    G[:3, :3] = _dcm(_exp_rotvec(phi)).T
+    G[:3, :3] = dcm(exp_rotvec(phi)).T
     G[:3, 3:] = -dt * (np.eye(3) - a * K + b * (K @ K))
     return G
-
-
-@njit(cache=True)
-def _body_vector_jacobian(q, v):
-    """``∂(R(q)ᵀ v)/∂q`` (:func:`~quadlib.geometry.kernels.body_vector_jacobian`)."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    vx, vy, vz = v[0], v[1], v[2]
-    rv = x * vx + y * vy + z * vz
-    return 2.0 * np.array([
-        [w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy],
-        [w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx],
-        [w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv]])
-
-
-@njit(cache=True)
-def _wrap(a):
-    """:func:`~quadlib.geometry.rotations.wrap_angle` of one angle [rad]."""
-    return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
-
-
-@njit(cache=True)
-def _update(P, H, y, R, uncorrected_from, gate):
-    """One EKF update of the error state (zero before it): the error ``K y``, Joseph's covariance,
-    the NIS, ``S``, and whether the gate (``gate ≤ 0``: none) passed it. Gain rows from
-    ``uncorrected_from`` on are zero (a consider update)."""
-    PHT = P @ H.T
-    S = H @ PHT + R
-    if S.shape[0] == 1:
-        SI = np.empty((1, 1))
-        SI[0, 0] = 1.0 / S[0, 0]
-    else:
-        SI = np.ascontiguousarray(np.linalg.inv(S))
-    nis = (y @ SI) @ y
-    if gate > 0.0 and nis > gate:
-        return np.zeros(P.shape[0]), P, nis, S, False
-    K = PHT @ SI
-    K[uncorrected_from:, :] = 0.0
-    I_KH = np.eye(P.shape[0]) - K @ H
-    P_new = (I_KH @ P) @ I_KH.T + (K @ R) @ K.T
-    return K @ y, P_new, nis, S, True
 
 
 @njit(cache=True)
 def _add_jacobian(q):
     """``∂(x ⊞ δx)/∂δx`` at 0, ``(7, 6)``: ``½ Ξ(q)`` for the quaternion, the identity for the bias."""
     J = np.zeros((7, 6))
-    J[:4, :3] = 0.5 * _rate_matrix(q)
+    J[:4, :3] = 0.5 * rate_matrix(q)
     J[4:, 3:] = np.eye(3)
     return J
 
@@ -152,9 +85,9 @@ def _add_jacobian(q):
 def _fold(q, b, e):
     """The error into the state, ``q ⊗ exp(δθ)`` (normalised) and ``b + δb``."""
     if e[0] != 0.0 or e[1] != 0.0 or e[2] != 0.0 or e[3] != 0.0 or e[4] != 0.0 or e[5] != 0.0:
-        q = _multiply(q, _exp_rotvec(e[:3]))
+        q = multiply(q, exp_rotvec(e[:3]))
         b = b + e[3:]
-    return _normalize(q), b
+    return normalize(q), b
 
 
 @njit(cache=True)
@@ -173,7 +106,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
     inn_h, S_h = np.full((n, 1), np.nan), np.full((n, 1, 1), np.nan)
     inn_z, S_z = np.full((n, 3), np.nan), np.full((n, 3, 3), np.nan)
     nis, used, rejected = np.full((3, n), np.nan), np.zeros((3, n), np.bool_), np.zeros((3, n), np.bool_)
-    q, b, P = _normalize(x0[:4].copy()), x0[4:].copy(), P0.copy()
+    q, b, P = normalize(x0[:4].copy()), x0[4:].copy(), P0.copy()
     q_dt = dt0
     Q = _process_noise(sg, sb, dt0)
     R_g, R_h, R_z = gravity_var * np.eye(3), np.full((1, 1), heading_var), zero_rate_var * np.eye(3)
@@ -188,33 +121,33 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
                 Q = _process_noise(sg, sb, dt)
             phi = (u - b) * dt
             G = _error_jacobian(phi, dt)
-            q = _multiply(q, _exp_rotvec(phi))
+            q = multiply(q, exp_rotvec(phi))
             P = (G @ P) @ G.T + Q
             if gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range:
                 for i in range(3):
                     P[i, i] += (gyro_range * dt) ** 2
-            q = _normalize(q)
+            q = normalize(q)
         if not np.isnan(gravity_z[k]).any():  # gravity: h = R(q)ᵀ up
             H7 = np.zeros((3, 7))
-            H7[:, :4] = _body_vector_jacobian(q, up)
-            y = gravity_z[k] - _dcm(q).T @ up
-            e, P, nis_k, S, ok = _update(P, H7 @ _add_jacobian(q), y, R_g, 6, gravity_gate)
+            H7[:, :4] = body_vector_jacobian(q, up)
+            y = gravity_z[k] - dcm(q).T @ up
+            e, P, nis_k, S, ok = kalman_update(P, H7 @ _add_jacobian(q), y, R_g, 6, gravity_gate)
             inn_g[k], S_g[k], nis[0, k], used[0, k], rejected[0, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
         if not np.isnan(heading_z[k]) and not np.isnan(heading_context[k]).any():  # heading about the vertical
-            R = _dcm(q)
+            R = dcm(q)
             m_n = R @ heading_context[k]
             H7 = np.zeros((1, 7))
-            H7[0, :4] = R[2] @ (2.0 * _rate_matrix(q).T)
-            y = np.array([_wrap(heading_z[k] - math.atan2(m_n[1], m_n[0]))])
-            e, P, nis_k, S, ok = _update(P, H7 @ _add_jacobian(q), y, R_h, heading_uncorrected_from, heading_gate)
+            H7[0, :4] = R[2] @ (2.0 * rate_matrix(q).T)
+            y = np.array([wrap(heading_z[k] - math.atan2(m_n[1], m_n[0]))])
+            e, P, nis_k, S, ok = kalman_update(P, H7 @ _add_jacobian(q), y, R_h, heading_uncorrected_from, heading_gate)
             inn_h[k], S_h[k], nis[1, k], used[1, k], rejected[1, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
         if not np.isnan(zero_rate_z[k]).any():  # the gyro at rest measures its bias
             y = zero_rate_z[k] - b
-            e, P, nis_k, S, ok = _update(P, H_z, y, R_z, 6, zero_rate_gate)
+            e, P, nis_k, S, ok = kalman_update(P, H_z, y, R_z, 6, zero_rate_gate)
             inn_z[k], S_z[k], nis[2, k], used[2, k], rejected[2, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
@@ -238,32 +171,20 @@ def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
             for i in range(3):
                 prior_P[i, i] += (gyro_range * dt) ** 2
         C = np.linalg.solve(prior_P, F @ P).T
-        q_prior = _multiply(x[:4], _exp_rotvec(phi))
+        q_prior = multiply(x[:4], exp_rotvec(phi))
         # xs_s[k+1] ⊟ prior: the rotation vector of q_prior⁻¹ ⊗ q_s, and the bias difference
         q_s = xs_s[k + 1, :4]
-        d = _multiply(np.array([q_prior[0], -q_prior[1], -q_prior[2], -q_prior[3]]), q_s)
+        d = multiply(np.array([q_prior[0], -q_prior[1], -q_prior[2], -q_prior[3]]), q_s)
         diff = np.empty(6)
-        diff[:3] = _rotvec(d)
+        diff[:3] = rotvec(d)
         diff[3:] = xs_s[k + 1, 4:] - x[4:]
         delta = C @ diff
-        q_new = _multiply(x[:4], _exp_rotvec(delta[:3]))
-        xs_s[k, :4] = _normalize(q_new)
+        q_new = multiply(x[:4], exp_rotvec(delta[:3]))
+        xs_s[k, :4] = normalize(q_new)
         xs_s[k, 4:] = x[4:] + delta[3:]
         P_s = P + (C @ (Ps_s[k + 1] - prior_P)) @ C.T
         Ps_s[k] = 0.5 * (P_s + P_s.T)
     return xs_s, Ps_s
-
-
-@njit(cache=True)
-def _rotvec(q):
-    """The rotation vector of a unit quaternion, the shorter way round
-    (:func:`~quadlib.geometry.quaternion.quat_to_rotvec`)."""
-    if q[0] < 0.0:
-        q = -q
-    s = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-    angle = 2.0 * math.atan2(s, q[0])
-    scale = angle / s if s > 1e-8 else 2.0 + angle**2 / 12.0
-    return np.array([scale * q[1], scale * q[2], scale * q[3]])
 
 
 @njit(cache=True)
@@ -302,8 +223,8 @@ def inertial_lowpass_pass(t, gyro, accel, usable, tau, backward):
         if previous >= 0:  # turn the frame from the previous sample to this one
             step = t[k] - t[previous]
             rate = gyro[previous] if step > 0 else -gyro[k]
-            q = _multiply(q, _exp_rotvec(rate * abs(step)))
-        R = _dcm(q)
+            q = multiply(q, exp_rotvec(rate * abs(step)))
+        R = dcm(q)
         if usable[k]:
             a_i = R @ accel[k]
             dt = abs(t[k] - t[previous]) if previous >= 0 else 0.0

@@ -35,15 +35,17 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.attitude.compiled_mekf import (
-    _body_vector_jacobian,
-    _dcm,
-    _exp_rotvec,
-    _multiply,
-    _normalize,
-    _rate_matrix,
-    _rotvec,
-    _update,
+from quadlib.compiled_kernels import (
+    body_vector_jacobian,
+    dcm,
+    exp_rotvec,
+    kalman_update,
+    multiply,
+    normalize,
+    positive_definite,
+    rate_matrix,
+    rotvec,
+    upper_cholesky,
 )
 from quadlib.imu import SATURATED
 
@@ -63,7 +65,7 @@ def _step_jacobian(q, phi, dt):
     J[:4, :4] = np.array([[c, -v0, -v1, -v2], [v0, c, v2, -v1], [v1, -v2, c, v0], [v2, v1, -v0, c]])
     d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
     d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
-    J[:4, 4:] = -dt * (np.outer(q, d_w) + _rate_matrix(q) @ d_v)
+    J[:4, 4:] = -dt * (np.outer(q, d_w) + rate_matrix(q) @ d_v)
     return J
 
 
@@ -99,9 +101,9 @@ def _accel(x, omega, airspeed, g):
 def _mag(x, field_n):
     """Eq. (14), corrected, and its Jacobian (:func:`~quadlib.fixedwing.model.mag_model`, ``mag_jacobian``)."""
     q = x[:4]
-    h = _dcm(q).T @ field_n + (1.0 - q @ q) * field_n
+    h = dcm(q).T @ field_n + (1.0 - q @ q) * field_n
     C = np.zeros((3, 7))
-    C[:, :4] = _body_vector_jacobian(q, field_n) - 2.0 * np.outer(field_n, q)
+    C[:, :4] = body_vector_jacobian(q, field_n) - 2.0 * np.outer(field_n, q)
     return h, C
 
 
@@ -129,7 +131,7 @@ def _predicted(s, x, c, field_n, g):
 def _gyro_step(x, u, dt):
     """``[q ⊗ exp((ω − b) Δt), b]`` (:func:`~quadlib.attitude.bias_model.gyro_step`)."""
     x_new = x.copy()
-    x_new[:4] = _multiply(x[:4], _exp_rotvec((u - x[4:]) * dt))
+    x_new[:4] = multiply(x[:4], exp_rotvec((u - x[4:]) * dt))
     return x_new
 
 
@@ -159,7 +161,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
     innovations, Ss = np.full((3, n, 3), np.nan), np.full((3, n, 3, 3), np.nan)
     nis, used, rejected = np.full((3, n), np.nan), np.zeros((3, n), np.bool_), np.zeros((3, n), np.bool_)
     x, P = x0.copy(), P0.copy()
-    x[:4] = _normalize(x[:4])
+    x[:4] = normalize(x[:4])
     quarter = np.diag(np.array([0.25, 0.25, 0.25, 0.25, 0.0, 0.0, 0.0]))  # a quaternion component per radian
     q_dt, Q = dt0, np.diag(np.array([0.25 * (sg * dt0) ** 2] * 4 + [sb**2 * dt0] * 3))
     for k in range(n):
@@ -179,7 +181,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
                 continue
             h, H = _predicted(s, x, c, field_n, g)
             y = z - h
-            dx, P_new, nis_k, S, ok = _update(P, H, y, R[s], 7, gate)
+            dx, P_new, nis_k, S, ok = kalman_update(P, H, y, R[s], 7, gate)
             innovations[s, k], Ss[s, k], nis[s, k], used[s, k], rejected[s, k] = y, S, nis_k, ok, not ok
             if ok:
                 x, P = _renormalized(x + dx, P_new)
@@ -191,7 +193,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
 def _add_error(x, e):
     """``x ⊞ δx = [q ⊗ exp(δθ), b + δb]``."""
     x_new = np.empty(7)
-    x_new[:4] = _multiply(x[:4], _exp_rotvec(e[:3]))
+    x_new[:4] = multiply(x[:4], exp_rotvec(e[:3]))
     x_new[4:] = x[4:] + e[3:]
     return x_new
 
@@ -200,29 +202,9 @@ def _add_error(x, e):
 def _error_between(x1, x0):
     """``x₁ ⊟ x₀ = [rotvec(q₀* ⊗ q₁), b₁ − b₀]``."""
     e = np.empty(6)
-    e[:3] = _rotvec(_multiply(np.array([x0[0], -x0[1], -x0[2], -x0[3]]), x1[:4]))
+    e[:3] = rotvec(multiply(np.array([x0[0], -x0[1], -x0[2], -x0[3]]), x1[:4]))
     e[3:] = x1[4:] - x0[4:]
     return e
-
-
-@njit(cache=True)
-def _upper_cholesky(A):
-    """``U`` with ``Uᵀ U = A``, and whether ``A`` was positive definite."""
-    n = A.shape[0]
-    U = np.zeros((n, n))
-    for j in range(n):
-        d = A[j, j]
-        for m in range(j):
-            d -= U[m, j] * U[m, j]
-        if not d > 0.0:
-            return U, False
-        U[j, j] = math.sqrt(d)
-        for i in range(j + 1, n):
-            v = A[j, i]
-            for m in range(j):
-                v -= U[m, j] * U[m, i]
-            U[j, i] = v / U[j, j]
-    return U, True
 
 
 @njit(cache=True)
@@ -230,21 +212,10 @@ def _sigma_points(P, scale):
     """Van der Merwe's points about a zero error: ``0`` and ``±`` the rows of ``U``, ``Uᵀ U = scale · P``
     (filterpy's ``MerweScaledSigmaPoints``, ``scale = λ + n``); and whether ``P`` was positive definite."""
     n = P.shape[0]
-    U, ok = _upper_cholesky(scale * P)
+    U, ok = upper_cholesky(scale * P)
     sigmas = np.zeros((2 * n + 1, n))
     sigmas[1:n + 1], sigmas[n + 1:] = U, -U
     return sigmas, ok
-
-
-@njit(cache=True)
-def _positive_definite(P):
-    """:func:`quadlib.filters._positive_definite`: symmetrised, and if indefinite its eigenvalues
-    raised to 1e-12 of the largest."""
-    P = 0.5 * (P + P.T)
-    if _upper_cholesky(P)[1]:
-        return P
-    w, V = np.linalg.eigh(P)
-    return (V * np.maximum(w, 1e-12 * max(w.max(), 2.2250738585072014e-308))) @ V.T  # np.finfo(float).tiny
 
 
 @njit(cache=True)
@@ -259,7 +230,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
     innovations, Ss = np.full((3, n, 3), np.nan), np.full((3, n, 3, 3), np.nan)
     nis, used, rejected = np.full((3, n), np.nan), np.zeros((3, n), np.bool_), np.zeros((3, n), np.bool_)
     x, P = x0.copy(), P0.copy()
-    x[:4] = _normalize(x[:4])
+    x[:4] = normalize(x[:4])
     attitude = np.diag(np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]))
     q_dt, Q = dt0, np.diag(np.array([(sg * dt0) ** 2] * 3 + [sb**2 * dt0] * 3))
     stepped = np.empty((2 * 6 + 1, 6))
@@ -278,7 +249,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
             e = Wm @ stepped
             d = stepped - e
             P = d.T @ (np.diag(Wc) @ d) + Q_k
-            healthy = ok and _upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
+            healthy = ok and upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
             x = _normalize_state(_add_error(after, e) if e.any() else after)
         for s in range(3):
             if not healthy or _diverged(x, P):
@@ -305,7 +276,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
             innovations[s, k], Ss[s, k], nis[s, k], used[s, k], rejected[s, k] = y, S, nis_k, ok, not ok
             if ok:
                 e = K @ y
-                P = _positive_definite(P - K @ (S @ K.T))
+                P = positive_definite(P - K @ (S @ K.T))
                 x = _normalize_state(_add_error(x, e) if e.any() else x)
         if not healthy or _diverged(x, P):  # the caller hands the log to run_filter, which names the step
             xs[k:], Ps[k:] = np.nan, np.nan
@@ -317,5 +288,5 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
 @njit(cache=True)
 def _normalize_state(x):
     x_new = x.copy()
-    x_new[:4] = _normalize(x[:4])
+    x_new[:4] = normalize(x[:4])
     return x_new

@@ -30,8 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.attitude.compiled_mekf import _update, _wrap
-from quadlib.fixedwing.compiled import _positive_definite, _upper_cholesky
+from quadlib.compiled_kernels import euler_dcm, kalman_update, positive_definite, upper_cholesky, wrap
 
 __all__: list[str] = []  # internal: estimate.py is the interface
 
@@ -39,19 +38,9 @@ YAW = 6
 
 
 @njit(cache=True)
-def _euler_dcm(roll, pitch, yaw):
-    """``R_nb = R_z(ψ) R_y(θ) R_x(φ)`` (:func:`~quadlib.geometry.kernels.euler_dcm`)."""
-    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
-                     [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
-                     [-sp, cp * sr, cp * cr]])
-
-
-@njit(cache=True)
 def _g(x, u, dt, g_down):
     """Eq. (49) with NED gravity ``g_down``, the yaw wrapped (:func:`~quadlib.quad.quad3d.quad3d_model`)."""
-    R = _euler_dcm(u[4], u[5], x[YAW])
+    R = euler_dcm(u[4], u[5], x[YAW])
     x_new = np.empty(7)
     x_new[:3] = x[:3] + x[3:6] * dt
     f_n = R @ u[:3]
@@ -67,7 +56,7 @@ def _G(x, u, dt):
     J = np.eye(7)
     for i in range(3):
         J[i, 3 + i] = dt
-    R = _euler_dcm(u[4], u[5], x[YAW])
+    R = euler_dcm(u[4], u[5], x[YAW])
     f = u[:3] * dt
     J[3, YAW] = -(R[1] @ f)
     J[4, YAW] = R[0] @ f
@@ -123,11 +112,11 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             j = event_sample[e]
             if event_sensor[e] == 0:
                 y = gps_z[j] - x[:6]
-                dx, P, nis_g[j], S_g[j], _ = _update(P, H_gps, y, R_gps, 7, 0.0)
+                dx, P, nis_g[j], S_g[j], _ = kalman_update(P, H_gps, y, R_gps, 7, 0.0)
                 inn_g[j] = y
             else:
-                y = np.array([_wrap(mag_z[j, 0] - x[YAW])])
-                dx, P, nis_m[j], S_m[j], _ = _update(P, H_mag, y, R_mag, 7, 0.0)
+                y = np.array([wrap(mag_z[j, 0] - x[YAW])])
+                dx, P, nis_m[j], S_m[j], _ = kalman_update(P, H_mag, y, R_mag, 7, 0.0)
                 inn_m[j] = y
             x = x + dx
             e += 1
@@ -139,7 +128,7 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
 def _residual_x(a, b):
     """``a − b`` with the yaw difference wrapped (:func:`~quadlib.quad.quad3d.quad3d_ukf_options`)."""
     d = a - b
-    d[YAW] = _wrap(d[YAW])
+    d[YAW] = wrap(d[YAW])
     return d
 
 
@@ -149,7 +138,7 @@ def _sigma_points(x, P, scale):
     ``x`` and ``x ∓ (∓ rows of U)``, ``Uᵀ U = scale · P``, yaw wrapped; and whether ``P`` was
     positive definite."""
     n = x.shape[0]
-    U, ok = _upper_cholesky(scale * P)
+    U, ok = upper_cholesky(scale * P)
     sigmas = np.empty((2 * n + 1, n))
     sigmas[0] = x
     for k in range(n):
@@ -194,7 +183,7 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
                 d = _residual_x(stepped[i], x)
                 P_sum += Wc[i] * np.outer(d, d)
             P = P_sum + Q
-            healthy = healthy and _upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
+            healthy = healthy and upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
         while healthy and e < event_step.shape[0] and event_step[e] == k:
             if not (np.isfinite(x).all() and np.isfinite(P).all()):
                 healthy = False
@@ -213,19 +202,19 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
                 z_mean = np.array([math.atan2(Wm @ np.sin(sigmas[:, YAW]), Wm @ np.cos(sigmas[:, YAW]))])
                 d_z = np.empty((m, 1))
                 for i in range(m):
-                    d_z[i, 0] = _wrap(sigmas[i, YAW] - z_mean[0])
+                    d_z[i, 0] = wrap(sigmas[i, YAW] - z_mean[0])
                 S = np.zeros((1, 1))
                 for i in range(m):
                     S += Wc[i] * np.outer(d_z[i], d_z[i])
                 S = S + R_mag
-                y = np.array([_wrap(mag_z[j, 0] - z_mean[0])])
+                y = np.array([wrap(mag_z[j, 0] - z_mean[0])])
             SI = np.linalg.inv(S)
             Pxz = np.zeros((7, y.shape[0]))
             for i in range(m):
                 Pxz += Wc[i] * np.outer(_residual_x(sigmas[i], x), d_z[i])
             K = Pxz @ SI
             x = x + K @ y
-            P = _positive_definite(P - K @ (S @ K.T))
+            P = positive_definite(P - K @ (S @ K.T))
             nis = (y @ SI) @ y
             if event_sensor[e] == 0:
                 inn_g[j], S_g[j], nis_g[j] = y, S, nis

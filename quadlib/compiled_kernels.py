@@ -1,0 +1,148 @@
+"""The numba kernels the compiled filters share: one-quaternion maths (twins of
+:mod:`quadlib.geometry.kernels`), the Kalman update and the Cholesky factor of the sigma points.
+
+Every function here is plain arithmetic on small arrays, compiled by numba; the compiled filters
+(:mod:`quadlib.attitude.compiled_mekf`, :mod:`quadlib.fixedwing.compiled`, :mod:`quadlib.quad.compiled`)
+are proved equal to their readable twins by their tests, and with them these kernels.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__: list[str] = []  # internal: the compiled filters use these
+
+
+@njit(cache=True)
+def multiply(p, q):
+    return np.array([p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3],
+                     p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2],
+                     p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1],
+                     p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0]])
+
+
+@njit(cache=True)
+def exp_rotvec(v):
+    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
+    return np.array([math.cos(0.5 * angle), half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]])
+
+
+@njit(cache=True)
+def dcm(q):
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    ww, xx, yy, zz = w * w, x * x, y * y, z * z
+    return np.array([[ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz]])
+
+
+@njit(cache=True)
+def rate_matrix(q):
+    return np.array([[-q[1], -q[2], -q[3]], [q[0], -q[3], q[2]], [q[3], q[0], -q[1]], [-q[2], q[1], q[0]]])
+
+
+@njit(cache=True)
+def normalize(q):
+    return q / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+
+
+@njit(cache=True)
+def skew(v):
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+@njit(cache=True)
+def body_vector_jacobian(q, v):
+    """``∂(R(q)ᵀ v)/∂q`` (:func:`~quadlib.geometry.kernels.body_vector_jacobian`)."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    vx, vy, vz = v[0], v[1], v[2]
+    rv = x * vx + y * vy + z * vz
+    return 2.0 * np.array([
+        [w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy],
+        [w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx],
+        [w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv]])
+
+
+@njit(cache=True)
+def wrap(a):
+    """:func:`~quadlib.geometry.rotations.wrap_angle` of one angle [rad]."""
+    return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
+
+
+@njit(cache=True)
+def kalman_update(P, H, y, R, uncorrected_from, gate):
+    """One EKF update of the error state (zero before it): the error ``K y``, Joseph's covariance,
+    the NIS, ``S``, and whether the gate (``gate ≤ 0``: none) passed it. Gain rows from
+    ``uncorrected_from`` on are zero (a consider update)."""
+    PHT = P @ H.T
+    S = H @ PHT + R
+    if S.shape[0] == 1:
+        SI = np.empty((1, 1))
+        SI[0, 0] = 1.0 / S[0, 0]
+    else:
+        SI = np.ascontiguousarray(np.linalg.inv(S))
+    nis = (y @ SI) @ y
+    if gate > 0.0 and nis > gate:
+        return np.zeros(P.shape[0]), P, nis, S, False
+    K = PHT @ SI
+    K[uncorrected_from:, :] = 0.0
+    I_KH = np.eye(P.shape[0]) - K @ H
+    P_new = (I_KH @ P) @ I_KH.T + (K @ R) @ K.T
+    return K @ y, P_new, nis, S, True
+
+
+@njit(cache=True)
+def rotvec(q):
+    """The rotation vector of a unit quaternion, the shorter way round
+    (:func:`~quadlib.geometry.quaternion.quat_to_rotvec`)."""
+    if q[0] < 0.0:
+        q = -q
+    s = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    angle = 2.0 * math.atan2(s, q[0])
+    scale = angle / s if s > 1e-8 else 2.0 + angle**2 / 12.0
+    return np.array([scale * q[1], scale * q[2], scale * q[3]])
+
+
+@njit(cache=True)
+def upper_cholesky(A):
+    """``U`` with ``Uᵀ U = A``, and whether ``A`` was positive definite."""
+    n = A.shape[0]
+    U = np.zeros((n, n))
+    for j in range(n):
+        d = A[j, j]
+        for m in range(j):
+            d -= U[m, j] * U[m, j]
+        if not d > 0.0:
+            return U, False
+        U[j, j] = math.sqrt(d)
+        for i in range(j + 1, n):
+            v = A[j, i]
+            for m in range(j):
+                v -= U[m, j] * U[m, i]
+            U[j, i] = v / U[j, j]
+    return U, True
+
+
+@njit(cache=True)
+def positive_definite(P):
+    """:func:`quadlib.filters._positive_definite`: symmetrised, and if indefinite its eigenvalues
+    raised to 1e-12 of the largest."""
+    P = 0.5 * (P + P.T)
+    if upper_cholesky(P)[1]:
+        return P
+    w, V = np.linalg.eigh(P)
+    return (V * np.maximum(w, 1e-12 * max(w.max(), 2.2250738585072014e-308))) @ V.T  # np.finfo(float).tiny
+
+
+@njit(cache=True)
+def euler_dcm(roll, pitch, yaw):
+    """``R_nb = R_z(ψ) R_y(θ) R_x(φ)`` (:func:`~quadlib.geometry.kernels.euler_dcm`)."""
+    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
+                     [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
+                     [-sp, cp * sr, cp * cr]])
