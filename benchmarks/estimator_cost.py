@@ -1,5 +1,5 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (the
-orientation MEKF and the fixed-wing EKF and error-state UKF also compiled,
+orientation MEKF, the fixed-wing EKF and error-state UKF and the 3D quadrotor EKF and UKF also compiled,
 :mod:`quadlib.attitude.compiled_mekf` and :mod:`quadlib.fixedwing.compiled`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from quadlib import LinearKF, Measurements, ModelEKF, ModelUKF, run_filter
+from quadlib import LinearKF, Measurements, run_filter
 from quadlib.attitude import FILTERS, AttitudeNoise, altitude_model, baro_altitude_sensor, random_rotation
 from quadlib.attitude.kesten import run_attitude_filter
 from quadlib.attitude.orientation import orientation_run
@@ -28,14 +28,7 @@ from quadlib.fixedwing import (
     salmony_ekf,
 )
 from quadlib.nav import InsParams, estimate_ins
-from quadlib.quad import (
-    Quad3DTuning,
-    SensorNoise3D,
-    quad3d_ukf_options,
-    run3d_measurements,
-    simulate_run3d,
-    square_course,
-)
+from quadlib.quad import SensorNoise3D, estimate_quad3d, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
 from quadlib.sim import imu_samples
 
 
@@ -74,14 +67,11 @@ def main() -> None:
                                       estimate_fixedwing_attitude(p, fw_noise, f, compiled=c), n)))
 
     run = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(4))
-    tuning = Quad3DTuning()
-    model, sensors, P0, dt = tuning.model(), tuning.sensors(), tuning.P0, run.t[1] - run.t[0]
-    x0 = run.truth[0]
-    for name, make in (("EKF", lambda: ModelEKF(model, x0, P0, dt)),
-                       ("UKF", lambda: ModelUKF(model, x0, P0, dt, **quad3d_ukf_options()))):
-        rows.append((f"3D quadrotor {name} (50 Hz, GPS 10 Hz, mag 100 Hz)",
-                     best_us_per_step(lambda make=make: run_filter(make(), run.t, run.u,
-                                                                   run3d_measurements(run, *sensors)), run.t.size)))
+    for name, factory in (("EKF", quad3d_ekf), ("UKF", quad3d_ukf)):
+        for label, compiled in (("compiled", True), ("readable run_filter", False)):
+            rows.append((f"3D quadrotor {name}, {label} (50 Hz, GPS 10 Hz, mag 100 Hz)",
+                         best_us_per_step(lambda f=factory, c=compiled: estimate_quad3d(
+                             run.t, run.u, run.gps, run.mag, run.truth[0], filter_factory=f, compiled=c), run.t.size)))
 
     flight = load_px4_log()
     steps = flight.imu.t.size
@@ -99,9 +89,9 @@ def main() -> None:
                                                      np.full((2000, 1), 9.80665), baro), t.size)))
 
     cheapest = min(us for _, us in rows)
-    print(f"{'estimator':<64} | {'µs / step':>9} | {'ratio':>6}")
+    print(f"{'estimator':<72} | {'µs / step':>9} | {'ratio':>6}")
     for name, us in rows:
-        print(f"{name:<64} | {us:9.1f} | {us / cheapest:6.1f}")
+        print(f"{name:<72} | {us:9.1f} | {us / cheapest:6.1f}")
 
 
 if __name__ == "__main__":
