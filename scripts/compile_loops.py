@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
@@ -34,6 +35,8 @@ def main() -> None:
                       np.random.default_rng(1), field_n=earth_field_ned(50.0, np.radians(65.0)))
     for offline in (False, True):  # every loop: rest, both low-passes, the forward pass, the backward pass
         estimate_orientation(log, offline=offline)
+    for make in FILTERS.values():  # Kesten's filters
+        run_attitude_filter(make(AttitudeNoise()), log)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)

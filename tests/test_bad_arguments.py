@@ -469,7 +469,7 @@ PROBES = [
     Probe(qkf, lambda: dict(noise=AttitudeNoise()),
           {"noise": _wrong_type(AttitudeNoise), "sigma0_rad": BAD["positive"], "checks": WRONG_TYPE}),
     Probe(run_attitude_filter, lambda: dict(filt=qkf(AttitudeNoise()), log=_imu_log()),
-          {"filt": WRONG_TYPE, "log": WRONG_TYPE, "q0": BAD["quaternion"]}),
+          {"filt": WRONG_TYPE, "log": WRONG_TYPE, "q0": BAD["quaternion"], "compiled": WRONG_TYPE}),
     Probe(estimate_orientation, lambda: dict(t=_imu_log().t, gyr=_imu_log().gyro, acc=_imu_log().accel,
                                              mag=_imu_log().mag, params=OrientationParams()),
           {"t": BAD["times"], "gyr": BAD["imu stream"], "acc": BAD["imu stream"],

@@ -47,6 +47,7 @@ from typing import NamedTuple
 import numpy as np
 
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
+from quadlib.attitude.compiled_kesten import QF, QKF, TOVKF, TQF, TQKF, kesten_pass
 from quadlib.constants import GRAVITY_N, earth_field_ned
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
@@ -58,8 +59,8 @@ from quadlib.geometry.quaternion import (
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
-from quadlib.replay import FilterRun, run_filter
-from quadlib.samples import Measurements
+from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
+from quadlib.samples import Measurements, time_resolution
 from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
@@ -121,6 +122,8 @@ class KestenFilter(NamedTuple):
 
     ``samples(log)`` gives each sensor's ``(N, k)`` samples from an :class:`ImuLog` (NaN rows
     where it has none); ``state_from_q`` and ``q_from_state`` convert between ``q_nb`` and the state.
+    ``noise`` is set by the five factories: with it, :func:`run_attitude_filter` can run the filter
+    ``name`` compiled (:mod:`~quadlib.attitude.compiled_kesten`); a filter built otherwise runs readable.
     """
 
     name: str
@@ -130,6 +133,7 @@ class KestenFilter(NamedTuple):
     samples: Callable[[ImuLog], tuple[np.ndarray, ...]]
     state_from_q: Callable[[np.ndarray], np.ndarray] = quat_normalize
     q_from_state: Callable[[np.ndarray], np.ndarray] = quat_normalize
+    noise: AttitudeNoise | None = None
 
 
 # --- measured streams -------------------------------------------------------------------------
@@ -252,7 +256,7 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=lambda x: x,
                     H=lambda x: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3), residual=nearest)
     return KestenFilter("TOVKF", model, s0**2 * np.eye(3), (sensor,), lambda log: _measured_rotvec(log, noise, checks),
-                        state_from_q=quat_to_rotvec, q_from_state=quat_from_rotvec)
+                        state_from_q=quat_to_rotvec, q_from_state=quat_from_rotvec, noise=noise)
 
 
 def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -263,7 +267,7 @@ def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                     R=0.25 * 0.5 * (noise.r_accel + noise.r_mag) * np.eye(4),
                     residual=lambda z, x: (z if z @ x >= 0 else -z) - x)
     return KestenFilter("TQKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), (sensor,),
-                        lambda log: (_measured_attitude(log, noise, checks),))
+                        lambda log: (_measured_attitude(log, noise, checks),), noise=noise)
 
 
 def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -275,7 +279,7 @@ def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                     H=lambda q: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
                     residual=_rotvec_difference)
     return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,),
-                        lambda log: _measured_rotvec(log, noise, checks))
+                        lambda log: _measured_rotvec(log, noise, checks), noise=noise)
 
 
 def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -292,7 +296,7 @@ def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
         return (_scaled(_accel(log, checks), float(np.linalg.norm(noise.accel_n))),
                 _scaled(_mag(log, noise, checks), float(np.linalg.norm(noise.field_n))))
 
-    return KestenFilter("QKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), sensors, samples)
+    return KestenFilter("QKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), sensors, samples, noise=noise)
 
 
 def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -309,7 +313,7 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
         sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: kernels.dcm(q).T @ ref,
                               H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
-                        lambda log: (_accel(log, checks), _mag(log, noise, checks)))
+                        lambda log: (_accel(log, checks), _mag(log, noise, checks)), noise=noise)
 
 
 FILTERS = {"TOVKF": tovkf, "TQKF": tqkf, "TQF": tqf, "QKF": qkf, "QF": qf}
@@ -322,7 +326,7 @@ class AttitudeRun(NamedTuple):
     run: FilterRun
 
 
-def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)) -> AttitudeRun:
+def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0), compiled: bool = True) -> AttitudeRun:
     """Run one of Kesten's filters over an IMU log with :func:`run_filter`.
 
     Parameters
@@ -334,14 +338,54 @@ def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)
         are missing samples.
     q0 : (4,) array_like
         Initial attitude ``q_nb``.
+    compiled : bool
+        Run the same steps compiled (:mod:`~quadlib.attitude.compiled_kesten`; equal to
+        ``run_filter``'s to 1e-10, tested) for a filter from :data:`FILTERS`; False runs the readable
+        filter. A log whose timestamps repeat within their precision always takes the readable one.
     """
     if not isinstance(filt, KestenFilter):
         raise TypeError(f"filt: expected a KestenFilter (e.g. qkf(noise)), got {type(filt).__name__}")
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
+    if not isinstance(compiled, bool):
+        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
     q0 = quat_normalize(as_quaternions("q0", q0))
     dt = float(log.t[1] - log.t[0]) if len(log) > 1 else 1.0
     ekf = ModelEKF(filt.model, filt.state_from_q(q0), filt.P0, dt)
     measurements = [Measurements(s, log.t, z) for s, z in zip(filt.sensors, filt.samples(log), strict=True)]
+    if (compiled and filt.noise is not None and filt.name in _KINDS
+            and not (np.diff(log.t) <= time_resolution(log.t)).any()):
+        run = _compiled_run(filt, ekf, log, measurements)
+        if run is not None:
+            return AttitudeRun(filt.q_from_state(run.x), run)
     run = run_filter(ekf, log.t, log.gyro, measurements)
     return AttitudeRun(filt.q_from_state(run.x), run)
+
+
+_KINDS = {"TOVKF": TOVKF, "TQKF": TQKF, "TQF": TQF, "QKF": QKF, "QF": QF}
+
+
+def _compiled_run(filt: KestenFilter, ekf: ModelEKF, log: ImuLog, measurements: list[Measurements]) -> FilterRun | None:
+    """What ``run_filter(ekf, log.t, log.gyro, measurements)`` returns, from
+    :func:`~quadlib.attitude.compiled_kesten.kesten_pass`; None if the estimate became non-finite
+    (the readable loop then names where)."""
+    n, noise = len(log), filt.noise
+    gyro, held = held_inputs(ekf.model, log.gyro, n)
+    kind = _KINDS[filt.name]
+    refs = (noise.accel_n, noise.field_n) if kind in (QKF, QF) else (np.zeros(3), np.zeros(3))
+    sensors = [(np.ascontiguousarray(m.z), ~m.missing, m.sensor.R) for m in measurements]
+    if len(sensors) == 1:  # a second sensor that never reports
+        sensors.append((np.zeros((n, 1)), np.zeros(n, bool), np.eye(1)))
+    (z0, present0, R0), (z1, present1, R1) = sensors
+    xs, Ps, *traces = kesten_pass(kind, log.t, gyro, z0, present0, z1, present1, ekf.state_view().copy(), ekf.P,
+                                  ekf.dt, noise.gyro_sigma_rad_s, noise.thesis_process_noise,
+                                  0.25 if kind in (TQKF, QKF) else 1.0, noise.gyro_range_rad_s or 0.0, R0, R1, *refs)
+    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
+        return None
+    out = {}
+    for i, m in enumerate(measurements):
+        innovation, S, nis = traces[3 * i:3 * i + 3]
+        none = np.zeros(n, bool)
+        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=~m.missing, rejected=none,
+                                         reset=none, missing=m.missing, duplicate=none)
+    return FilterRun(t=log.t, x=xs, P=Ps, sensors=out, held_input=held)
