@@ -51,8 +51,8 @@ ATTITUDE = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "att
 
 
 def test_the_fig_5_2_table_is_reproduced_for_its_cheapest_filter():
-    """Chapter 10 shows benchmarks/results/attitude_filters.csv (two minutes of tumbling per entry);
-    the TQKF's entry at k = 1 with the thesis's noise is recomputed here."""
+    """benchmarks/results/attitude_filters.csv (two minutes of tumbling per entry, the tables chapter 10
+    computes): the TQKF's entry at k = 1 with the thesis's noise is recomputed here."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("attitude_filters", ATTITUDE.parents[1] / "attitude_filters.py")

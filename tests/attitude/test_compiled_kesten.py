@@ -68,3 +68,15 @@ def test_a_hand_built_filter_or_a_repeated_time_takes_the_readable_loop(assert_s
     run = run_attitude_filter(tqf, repeated).run
     assert run.sensors["attitude"].duplicate[300]
     assert_same_run(run, run_attitude_filter(tqf, repeated, compiled=False).run)
+
+
+def test_the_tumble_is_integrate_body_rate_bit_for_bit():
+    """random_rotation integrates with the one-quaternion kernels; every stored Fig. 5.2 number
+    depends on its truth being eq. (2.7) exactly as integrate_body_rate computes it."""
+    from quadlib.geometry.quaternion import integrate_body_rate
+
+    motion = random_rotation(2.0, 250.0, np.random.default_rng(10))
+    q = motion.q_nb[:1].copy()
+    for k in range(1, motion.t.size):
+        q = np.vstack([q, integrate_body_rate(q[-1], motion.omega_b[k - 1], 1.0 / 250.0)])
+    np.testing.assert_array_equal(q, motion.q_nb)
