@@ -13,6 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
+from quadlib.imu import SATURATED
+
 __all__: list[str] = []  # internal: the compiled filters use these
 
 
@@ -146,3 +148,16 @@ def euler_dcm(roll, pitch, yaw):
     return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
                      [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
                      [-sp, cp * sr, cp * cr]])
+
+
+@njit(cache=True)
+def saturated(u, gyro_range):
+    """The gyro sample ``u`` is at its full scale (:func:`~quadlib.imu.saturated_step_variance`);
+    ``gyro_range ≤ 0``: a gyro that never saturates."""
+    return gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range
+
+
+@njit(cache=True)
+def diverged(x, P):
+    """The estimate is no longer finite: a compiled loop stops and hands the log to ``run_filter``."""
+    return not (np.isfinite(x).all() and np.isfinite(P).all())

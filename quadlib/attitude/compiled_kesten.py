@@ -27,13 +27,14 @@ from numba import njit
 from quadlib.compiled_kernels import (
     body_vector_jacobian,
     dcm,
+    diverged,
     exp_rotvec,
     kalman_update,
     multiply,
     normalize,
     rotvec,
+    saturated,
 )
-from quadlib.imu import SATURATED
 
 __all__: list[str] = []  # internal: kesten.py is the interface
 
@@ -129,13 +130,13 @@ def kesten_pass(kind, t, gyro, z0, present0, z1, present1, x0, P0, dt0, gyro_sig
                 var = dt * gyro_sigma**2 if thesis_noise else (gyro_sigma * dt) ** 2
                 Q = q_scale * var * np.eye(n)
             Q_k = Q
-            if gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range:
+            if saturated(u, gyro_range):
                 Q_k = Q + q_scale * (gyro_range * dt) ** 2 * np.eye(n)
             turn = exp_rotvec(u * dt)
             x = rotvec(multiply(exp_rotvec(x), turn)) if kind == TOVKF else normalize(multiply(x, turn))
             P = P + Q_k
         for s in range(2):
-            if not (np.isfinite(x).all() and np.isfinite(P).all()):  # the caller hands the log to run_filter
+            if diverged(x, P):  # the caller hands the log to run_filter
                 xs[k:], Ps[k:] = np.nan, np.nan
                 return xs, Ps, inn0, S0, nis0, inn1, S1, nis1
             if not (present0[k] if s == 0 else present1[k]):

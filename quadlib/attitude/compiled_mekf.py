@@ -41,10 +41,10 @@ from quadlib.compiled_kernels import (
     normalize,
     rate_matrix,
     rotvec,
+    saturated,
     skew,
     wrap,
 )
-from quadlib.imu import SATURATED
 
 __all__: list[str] = []  # internal: orientation.py is the interface
 
@@ -123,7 +123,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             G = _error_jacobian(phi, dt)
             q = multiply(q, exp_rotvec(phi))
             P = (G @ P) @ G.T + Q
-            if gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range:
+            if saturated(u, gyro_range):
                 for i in range(3):
                     P[i, i] += (gyro_range * dt) ** 2
             q = normalize(q)
@@ -167,7 +167,7 @@ def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
         phi = (u - x[4:]) * dt
         F = _error_jacobian(phi, dt)
         prior_P = (F @ P) @ F.T + _process_noise(sg, sb, dt)
-        if gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range:
+        if saturated(u, gyro_range):
             for i in range(3):
                 prior_P[i, i] += (gyro_range * dt) ** 2
         C = np.linalg.solve(prior_P, F @ P).T

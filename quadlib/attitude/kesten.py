@@ -60,7 +60,7 @@ from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
 from quadlib.model import Model, Sensor
 from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
-from quadlib.samples import Measurements, time_resolution
+from quadlib.samples import Measurements, repeats_a_time
 from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
@@ -326,6 +326,9 @@ class AttitudeRun(NamedTuple):
     run: FilterRun
 
 
+_KINDS = {"TOVKF": TOVKF, "TQKF": TQKF, "TQF": TQF, "QKF": QKF, "QF": QF}  # the filters with a compiled twin
+
+
 def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0), compiled: bool = True) -> AttitudeRun:
     """Run one of Kesten's filters over an IMU log with :func:`run_filter`.
 
@@ -354,15 +357,12 @@ def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)
     ekf = ModelEKF(filt.model, filt.state_from_q(q0), filt.P0, dt)
     measurements = [Measurements(s, log.t, z) for s, z in zip(filt.sensors, filt.samples(log), strict=True)]
     if (compiled and filt.noise is not None and filt.name in _KINDS
-            and not (np.diff(log.t) <= time_resolution(log.t)).any()):
+            and not repeats_a_time(log.t)):
         run = _compiled_run(filt, ekf, log, measurements)
         if run is not None:
             return AttitudeRun(filt.q_from_state(run.x), run)
     run = run_filter(ekf, log.t, log.gyro, measurements)
     return AttitudeRun(filt.q_from_state(run.x), run)
-
-
-_KINDS = {"TOVKF": TOVKF, "TQKF": TQKF, "TQF": TQF, "QKF": QKF, "QF": QF}
 
 
 def _compiled_run(filt: KestenFilter, ekf: ModelEKF, log: ImuLog, measurements: list[Measurements]) -> FilterRun | None:

@@ -34,7 +34,7 @@ from quadlib.imu import ImuLog, as_imu_stream
 from quadlib.model import Sensor
 from quadlib.model_filter import gate_threshold
 from quadlib.replay import FilterRun, SensorTrace, held_inputs, rts_smooth, run_filter
-from quadlib.samples import Measurements, time_resolution
+from quadlib.samples import Measurements, repeats_a_time
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
@@ -325,7 +325,7 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
         if not isinstance(flag, bool):
             raise TypeError(f"{name}: expected True or False, got {flag!r}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
-    compiled = compiled and not (np.diff(log.t) <= time_resolution(log.t)).any()
+    compiled = compiled and not repeats_a_time(log.t)
     if params.accel_tau_s is None:
         run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, compiled)
     else:

@@ -38,6 +38,7 @@ from numba import njit
 from quadlib.compiled_kernels import (
     body_vector_jacobian,
     dcm,
+    diverged,
     exp_rotvec,
     kalman_update,
     multiply,
@@ -45,9 +46,9 @@ from quadlib.compiled_kernels import (
     positive_definite,
     rate_matrix,
     rotvec,
+    saturated,
     upper_cholesky,
 )
-from quadlib.imu import SATURATED
 
 __all__: list[str] = []  # internal: estimate.py is the interface
 
@@ -136,16 +137,6 @@ def _gyro_step(x, u, dt):
 
 
 @njit(cache=True)
-def _saturated(u, gyro_range):
-    return gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range
-
-
-@njit(cache=True)
-def _diverged(x, P):
-    return not (np.isfinite(x).all() and np.isfinite(P).all())
-
-
-@njit(cache=True)
 def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_context, mag_z, x0, P0, dt0, sg, sb,
                  gyro_range, R, field_n, g, gate):
     """Salmony's EKF over a log: ``gyro`` with its NaN rows already held
@@ -169,11 +160,11 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
             u, dt = gyro[k - 1], t[k] - t[k - 1]
             if abs(dt - q_dt) > 1e-9 * dt:
                 q_dt, Q = dt, np.diag(np.array([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3))
-            Q_k = Q + (gyro_range * dt) ** 2 * quarter if _saturated(u, gyro_range) else Q
+            Q_k = Q + (gyro_range * dt) ** 2 * quarter if saturated(u, gyro_range) else Q
             G = _step_jacobian(x[:4], (u - x[4:]) * dt, dt)
             x, P = _renormalized(_gyro_step(x, u, dt), (G @ P) @ G.T + Q_k)
         for s in range(3):
-            if _diverged(x, P):  # the caller hands the log to run_filter, which names the step
+            if diverged(x, P):  # the caller hands the log to run_filter, which names the step
                 xs[k:], Ps[k:] = np.nan, np.nan
                 return xs, Ps, innovations, Ss, nis, used, rejected
             z, c, present = _sample(s, k, accel_z, accel_context, no_airspeed_z, no_airspeed_context, mag_z)
@@ -241,7 +232,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
             u, dt = gyro[k - 1], t[k] - t[k - 1]
             if abs(dt - q_dt) > 1e-9 * dt:
                 q_dt, Q = dt, np.diag(np.array([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3))
-            Q_k = Q + (gyro_range * dt) ** 2 * attitude if _saturated(u, gyro_range) else Q
+            Q_k = Q + (gyro_range * dt) ** 2 * attitude if saturated(u, gyro_range) else Q
             after = _gyro_step(x, u, dt)
             sigmas, ok = _sigma_points(P, scale)
             for i in range(sigmas.shape[0]):
@@ -252,7 +243,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
             healthy = ok and upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
             x = _normalize_state(_add_error(after, e) if e.any() else after)
         for s in range(3):
-            if not healthy or _diverged(x, P):
+            if not healthy or diverged(x, P):
                 break
             z, c, present = _sample(s, k, accel_z, accel_context, no_airspeed_z, no_airspeed_context, mag_z)
             if not present:
@@ -278,7 +269,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
                 e = K @ y
                 P = positive_definite(P - K @ (S @ K.T))
                 x = _normalize_state(_add_error(x, e) if e.any() else x)
-        if not healthy or _diverged(x, P):  # the caller hands the log to run_filter, which names the step
+        if not healthy or diverged(x, P):  # the caller hands the log to run_filter, which names the step
             xs[k:], Ps[k:] = np.nan, np.nan
             return xs, Ps, innovations, Ss, nis, used, rejected
         xs[k], Ps[k] = x, P

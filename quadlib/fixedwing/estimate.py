@@ -37,7 +37,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.model_filter import gate_threshold
 from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
-from quadlib.samples import Measurements, time_resolution
+from quadlib.samples import Measurements, repeats_a_time
 from quadlib.validation import as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
@@ -211,7 +211,7 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
     measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, tuning.unmodelled_m_s2, prefilter_hz)
     if (compiled and filter_factory in (salmony_ekf, error_state_ukf)
-            and not (np.diff(log.t) <= time_resolution(log.t)).any()):
+            and not repeats_a_time(log.t)):
         run = _compiled_run(filt, log, measurements, noise, incl, tuning.gate_probability)
         if run is not None:
             return run

@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import euler_dcm, kalman_update, positive_definite, upper_cholesky, wrap
+from quadlib.compiled_kernels import diverged, euler_dcm, kalman_update, positive_definite, upper_cholesky, wrap
 
 __all__: list[str] = []  # internal: estimate.py is the interface
 
@@ -106,7 +106,7 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             x = _g(x, u[k - 1], dt, g_down)
             P = (F @ P) @ F.T + Q
         while e < event_step.shape[0] and event_step[e] == k:
-            if not (np.isfinite(x).all() and np.isfinite(P).all()):  # the caller hands the log to run_filter
+            if diverged(x, P):  # the caller hands the log to run_filter
                 xs[k:], Ps[k:] = np.nan, np.nan
                 return xs, Ps, inn_g, S_g, nis_g, inn_m, S_m, nis_m
             j = event_sample[e]
@@ -185,7 +185,7 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             P = P_sum + Q
             healthy = healthy and upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
         while healthy and e < event_step.shape[0] and event_step[e] == k:
-            if not (np.isfinite(x).all() and np.isfinite(P).all()):
+            if diverged(x, P):
                 healthy = False
                 break
             sigmas, healthy = _sigma_points(x, P, scale)
@@ -221,7 +221,7 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             else:
                 inn_m[j], S_m[j], nis_m[j] = y, S, nis
             e += 1
-        if not healthy or not (np.isfinite(x).all() and np.isfinite(P).all()):
+        if not healthy or diverged(x, P):
             xs[k:], Ps[k:] = np.nan, np.nan
             return xs, Ps, inn_g, S_g, nis_g, inn_m, S_m, nis_m
         xs[k], Ps[k] = x, P
