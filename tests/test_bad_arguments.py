@@ -280,6 +280,7 @@ from quadlib.teaching import (
     show_trial,
     span,
     student_edition,
+    try_answers,
     tuning_sliders,
     uniform_grid,
 )
@@ -359,6 +360,14 @@ def _imu_log(n=100):
     noise = AttitudeNoise()
     return imu_samples(random_rotation((n - 1) / 50.0, 50.0, np.random.default_rng(0)), noise,
                        np.random.default_rng(1), field_n=noise.field_n)
+
+
+def _exercise_notebook():
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("Define `x`."),
+                nbformat.v4.new_code_cell("x = 1", metadata={"tags": ["solution"], "mutations": ["x = 2"]}),
+                nbformat.v4.new_code_cell("assert x == 1")]
+    return nb
 
 
 def _cv_model():
@@ -1092,6 +1101,9 @@ PROBES += [
     Probe(grade_notebook, lambda: dict(path="/nonexistent/never.ipynb"), {"timeout_s": POS}),
     Probe(notebook_client, lambda: dict(nb=nbformat.v4.new_notebook(), directory="."), {"timeout_s": POS}),
     Probe(mutation_run, lambda: dict(path="/nonexistent/never.ipynb"), {"timeout_s": POS}),
+    Probe(try_answers, lambda: dict(nb=_exercise_notebook(), ex=exercises(_exercise_notebook())[0], number=1,
+                                    execute=lambda source: None),
+          {"nb": WRONG_TYPE, "ex": WRONG_TYPE, "number": COUNT, "execute": WRONG_TYPE}),
     Probe(show_source, lambda: dict(obj=show_source), {"obj": st.sampled_from([1.0, "x", None, np.sin])}),
     Probe(span, lambda: dict(values=[1.0, 2.0], spec=".1f"),
           {"values": st.sampled_from([[], [NAN, 1.0], "x", None]), "spec": st.sampled_from([3, None, "d", ".1q"])}),

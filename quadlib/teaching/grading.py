@@ -19,7 +19,9 @@ with a message that says what is wrong without giving the answer away).
   metadata (``"mutations"``: a guess of the right order, a neighbouring quantity, another
   filter's figure, a unit or sign slip), and each, run in place of the solution, must make the
   check fail with something other than "answer not set yet"; the student edition's empty answer
-  cell, run there too, must make it say "answer not set yet".
+  cell, run there too, must make it say "answer not set yet". :func:`try_answers` tries one
+  exercise's answers in a running kernel; the nbval plugin
+  :mod:`~quadlib.teaching.nbval_exercises` calls it inside nbval's run of each chapter.
 
 The project grades with this small tool rather than otter-grader or nbgrader. Both would need
 every chapter rewritten into their own format (otter's ``# BEGIN QUESTION`` cells and separate
@@ -36,10 +38,10 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from quadlib.validation import as_positive
+from quadlib.validation import as_count, as_instance, as_positive
 
 __all__ = ["ANSWER_TAG", "RUBRIC_TAG", "SOLUTION_TAG", "Exercise", "Grade", "Mutation", "exercises", "grade_notebook",
-           "mutation_run", "student_edition"]
+           "mutation_run", "student_edition", "try_answers"]
 
 SOLUTION_TAG, ANSWER_TAG, RUBRIC_TAG = "solution", "answer", "rubric"
 _NAME = re.compile(r"`([A-Za-z_]\w*)[`(]")
@@ -178,11 +180,33 @@ class Mutation:
     blank: bool = False
 
 
+def try_answers(nb, ex: Exercise, number: int, execute) -> list[Mutation]:
+    """Try exercise ``ex`` (number ``number``) of ``nb`` where its solution would run: the student
+    edition's blank answer, then each of the solution's ``mutations``, each followed by the check.
+    ``execute(source)`` runs code in the kernel and returns the name and message of the error it
+    raised, or None. The kernel keeps whatever the last answer tried defined."""
+    nb = _notebook(nb)
+    as_instance("ex", ex, Exercise)
+    number = as_count("number", number)
+    if not callable(execute):
+        raise TypeError(f"execute: expected a function of the source that returns an error or None, got "
+                        f"{type(execute).__name__}")
+    results = []
+    for k, source in enumerate([_blank_answer(ex), *nb.cells[ex.answer].metadata.get("mutations", [])]):
+        blank = k == 0
+        answer_error = execute(source)
+        error = answer_error or execute(nb.cells[ex.check].source)
+        not_set = error is not None and error[1].startswith("answer not set yet")
+        rejected = error is not None and error[0] == "AssertionError" and not_set == blank
+        results.append(Mutation(number, source, rejected, "passed" if error is None else ": ".join(error), blank))
+    return results
+
+
 def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
-    """Execute the solution edition at ``path`` in one kernel; before each solution, run the
-    student edition's blank answer and then each of its ``mutations``, each followed by the check,
-    and record whether the check rejected it as it should (:class:`Mutation`). The solution and its
-    check then run as usual, and must pass.
+    """Execute the solution edition at ``path`` in one kernel; before each solution, try its blank
+    answer and each of its ``mutations`` (:func:`try_answers`), recording whether the check rejected
+    each as it should (:class:`Mutation`). The solution and its check then run as usual, and must
+    pass. (``make test`` does the same inside nbval's run of each chapter: the root ``conftest.py``.)
 
     The blank runs where every cell before it has run, solutions included: the kernel holds at
     least the names the student edition's would, so a check that says "answer not set yet" here
@@ -191,22 +215,18 @@ def mutation_run(path, timeout_s: float = 600.0) -> list[Mutation]:
 
     nb, client = _submission(path, timeout_s)
     by_answer = {ex.answer: (number, ex) for number, ex in enumerate(exercises(nb), start=1)}
+
+    def execute(source):
+        cell = nbformat.v4.new_code_cell(source)
+        client.execute_cell(cell, index)
+        return _error(cell)
+
     results = []
     with client.setup_kernel():
         for index, cell in enumerate(nb.cells):
             if index in by_answer:
                 number, ex = by_answer[index]
-                for k, source in enumerate([_blank_answer(ex), *cell.metadata.get("mutations", [])]):
-                    blank = k == 0
-                    tried = nbformat.v4.new_code_cell(source)
-                    check = nbformat.v4.new_code_cell(nb.cells[ex.check].source)
-                    client.execute_cell(tried, index)
-                    client.execute_cell(check, ex.check)
-                    error = _error(tried) or _error(check)
-                    not_set = error is not None and error[1].startswith("answer not set yet")
-                    rejected = error is not None and error[0] == "AssertionError" and not_set == blank
-                    results.append(Mutation(number, source, rejected, "passed" if error is None else ": ".join(error),
-                                            blank))
+                results += try_answers(nb, ex, number, execute)
             if cell.cell_type == "code":
                 client.execute_cell(cell, index)
                 error = _error(cell)
