@@ -76,25 +76,68 @@ def wrap(a):
 
 
 @njit(cache=True)
+def product(A, B):
+    """``A @ B`` for the filters' small matrices, as plain loops: for a few rows, BLAS's call costs
+    more than the sums."""
+    C = np.zeros((A.shape[0], B.shape[1]))
+    for i in range(A.shape[0]):
+        for k in range(A.shape[1]):
+            a = A[i, k]
+            for j in range(B.shape[1]):
+                C[i, j] += a * B[k, j]
+    return C
+
+
+@njit(cache=True)
+def inverse(S):
+    """``S⁻¹`` of a small invertible matrix (Gauss–Jordan elimination with partial pivoting)."""
+    n = S.shape[0]
+    A, X = S.copy(), np.eye(n)
+    for c in range(n):
+        p = c
+        for r in range(c + 1, n):
+            if abs(A[r, c]) > abs(A[p, c]):
+                p = r
+        for j in range(n):
+            A[c, j], A[p, j] = A[p, j], A[c, j]
+            X[c, j], X[p, j] = X[p, j], X[c, j]
+        d = A[c, c]
+        for j in range(n):
+            A[c, j] /= d
+            X[c, j] /= d
+        for r in range(n):
+            f = A[r, c]
+            if r != c and f != 0.0:
+                for j in range(n):
+                    A[r, j] -= f * A[c, j]
+                    X[r, j] -= f * X[c, j]
+    return X
+
+
+@njit(cache=True)
 def kalman_update(P, H, y, R, uncorrected_from, gate):
     """One EKF update of the error state (zero before it): the error ``K y``, Joseph's covariance,
     the NIS, ``S``, and whether the gate (``gate ≤ 0``: none) passed it. Gain rows from
     ``uncorrected_from`` on are zero (a consider update)."""
-    PHT = P @ H.T
-    S = H @ PHT + R
-    if S.shape[0] == 1:
-        SI = np.empty((1, 1))
-        SI[0, 0] = 1.0 / S[0, 0]
-    else:
-        SI = np.ascontiguousarray(np.linalg.inv(S))
-    nis = (y @ SI) @ y
+    n, m = P.shape[0], y.shape[0]
+    PHT = product(P, H.T)
+    S = product(H, PHT) + R
+    SI = inverse(S)
+    nis = 0.0
+    for i in range(m):
+        for j in range(m):
+            nis += y[i] * SI[i, j] * y[j]
     if gate > 0.0 and nis > gate:
-        return np.zeros(P.shape[0]), P, nis, S, False
-    K = PHT @ SI
+        return np.zeros(n), P, nis, S, False
+    K = product(PHT, SI)
     K[uncorrected_from:, :] = 0.0
-    I_KH = np.eye(P.shape[0]) - K @ H
-    P_new = (I_KH @ P) @ I_KH.T + (K @ R) @ K.T
-    return K @ y, P_new, nis, S, True
+    I_KH = np.eye(n) - product(K, H)
+    P_new = product(product(I_KH, P), I_KH.T) + product(product(K, R), K.T)
+    e = np.zeros(n)
+    for i in range(n):
+        for j in range(m):
+            e[i] += K[i, j] * y[j]
+    return e, P_new, nis, S, True
 
 
 @njit(cache=True)
