@@ -174,7 +174,7 @@ def upper_cholesky(A):
 
 @njit(cache=True)
 def positive_definite(P):
-    """:func:`quadlib.filters._positive_definite`: symmetrised, and if indefinite its eigenvalues
+    """:func:`quadlib.filters.positive_definite`: symmetrised, and if indefinite its eigenvalues
     raised to 1e-12 of the largest."""
     P = 0.5 * (P + P.T)
     if upper_cholesky(P)[1]:

@@ -204,7 +204,7 @@ def _upper_cholesky(P: np.ndarray) -> np.ndarray:
     return U
 
 
-def _positive_definite(P: np.ndarray) -> np.ndarray:
+def positive_definite(P: np.ndarray) -> np.ndarray:
     """``P`` symmetrised and, if rounding made it indefinite, with its eigenvalues raised to a
     floor of 1e-12 of the largest. The UKF's ``P − K S Kᵀ`` (unlike the EKF's Joseph form) loses
     definiteness when a very precise sensor meets a very uncertain state."""
@@ -311,5 +311,5 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         self.residual_z = sensor.residual
         self.z_mean = sensor.mean
         UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=hx)
-        self.P = _positive_definite(self.P)
+        self.P = positive_definite(self.P)
         self._drawn = (None, None)

@@ -85,6 +85,10 @@ class Model:
         Process noise that depends on the step's input, added to ``Q(dt)``; ``None`` when the
         input adds nothing. A gyro sample at its full scale turns the attitude by an unknown
         extra angle (:func:`quadlib.imu.saturated_step_variance`).
+    vectorized : bool
+        True when ``g`` and ``G`` also take a stack of states ``(M, n)`` (one input ``u``, one ``dt``)
+        and return one result per state, ``(M, n)`` and ``(M, p, p)``: the filters can then run many
+        flights at once (:mod:`quadlib.analysis.batched`).
     add_jacobian : callable ``add_jacobian(x) -> (n, p)``, optional
         ``∂(x ⊞ δx)/∂δx`` at ``δx = 0``. Given, the sensors' ``H`` are taken with
         respect to the full state ``x`` (so one sensor serves both kinds of
@@ -106,6 +110,7 @@ class Model:
     residual_x: Callable[[Array, Array], Array] | None = None
     add_jacobian: Callable[[Array], Array] | None = None
     input_noise: Callable[[Array, float], Array | None] | None = None
+    vectorized: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "state_names", _check_names("Model", "state_names", self.state_names))
@@ -120,6 +125,8 @@ class Model:
         elif any(f is not None for f in (self.state_add, self.residual_x, self.add_jacobian)):
             raise ValueError("Model.state_add, Model.residual_x, Model.add_jacobian: expected only with error_names, "
                              "got error_names=None")
+        if not isinstance(self.vectorized, bool):
+            raise TypeError(f"Model.vectorized: expected True or False, got {self.vectorized!r}")
         if self.normalize_jacobian is not None and (self.normalize is None or self.error_names is not None):
             raise ValueError("Model.normalize_jacobian: expected only with normalize on an additive model")
         optional = ("G", "B", "normalize", "normalize_jacobian", "state_add", "residual_x", "add_jacobian",
@@ -238,6 +245,10 @@ class Sensor:
         False: :func:`~quadlib.replay.run_filter`'s χ² gate never tests this sensor. For a
         measurement that cannot jump — an average over seconds — the gate can only refuse it
         after the estimate has drifted away, which is when it is needed most.
+    vectorized : bool
+        True when ``h`` and ``H`` also take a stack of states ``(M, n)`` and return one result per
+        state, ``(M, k)`` (or ``(M,)`` when ``k = 1``) and ``(M, k, n)``
+        (:mod:`quadlib.analysis.batched`).
     """
 
     name: str
@@ -254,6 +265,7 @@ class Sensor:
     stuck_samples: int | None = None
     uncorrected: tuple[int, ...] = ()
     gated: bool = True
+    vectorized: bool = False
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -293,6 +305,8 @@ class Sensor:
         object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
         if not isinstance(self.gated, bool):
             raise TypeError(f"Sensor({self.name!r}).gated: expected True or False, got {self.gated!r}")
+        if not isinstance(self.vectorized, bool):
+            raise TypeError(f"Sensor({self.name!r}).vectorized: expected True or False, got {self.vectorized!r}")
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

@@ -16,7 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from quadlib.analysis.batched import batch_supported, run_linear_batch
+from quadlib.analysis.batched import batch_supported, run_batch
 from quadlib.analysis.metrics import nees
 from quadlib.model import Model, Sensor
 from quadlib.progress import progress
@@ -137,8 +137,10 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
     gate_probability : float, optional
         NIS gate passed to :func:`~quadlib.replay.run_filter`.
     batched : bool
-        Run a :class:`~quadlib.LinearKF` over all runs at once (:mod:`~quadlib.analysis.batched`:
-        the same numbers, many times faster); False replays every run on its own.
+        Run the filter over all runs at once where :func:`~quadlib.analysis.batched.batch_supported`
+        allows (a :class:`~quadlib.LinearKF`, or an EKF or UKF of a vectorized model:
+        :mod:`~quadlib.analysis.batched`; the same numbers, many times faster); False replays every
+        run on its own.
     progress_label : str, optional
         Show progress bars (:func:`~quadlib.progress.progress`) named after it.
 
@@ -188,8 +190,8 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
                          for samples in runs_samples]
         first = make(x0, P0)
         if batched and batch_supported(first, [m.sensor for m in seen_runs[0]], gate_probability):
-            x, P, nis, rejected = run_linear_batch(first, np.broadcast_to(x0, (int(n_runs), len(x0))), t, u,
-                                                   seen_runs, gate_probability)
+            x, P, nis, rejected = run_batch(first, np.broadcast_to(x0, (int(n_runs), len(x0))), t, u,
+                                            seen_runs, gate_probability)
         else:
             runs = [run_filter(first if i == 0 else make(x0, P0), t, u, seen, gate_probability=gate_probability)
                     for i, seen in bar(list(enumerate(seen_runs)), name)]

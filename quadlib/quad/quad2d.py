@@ -60,24 +60,31 @@ def quad2d_model(accel_sigma_m_s2: float, roll_sigma_rad: float, lateral_accel: 
     else:
         raise ValueError(f"lateral_accel: expected 'physics' or 'seed', got {lateral_accel!r}")
 
-    def g(x, u, dt):
-        return np.array([u[0], x[1] + accel(x[0]) * dt, x[2] + x[1] * dt])
+    def g(x, u, dt):  # x: one state (3,) or a stack (M, 3)
+        x = np.asarray(x, dtype=float)
+        phi, ydot, y = x[..., 0], x[..., 1], x[..., 2]
+        return np.stack([np.full_like(phi, u[0]), ydot + accel(phi) * dt, y + ydot * dt], axis=-1)
 
     def G(x, u, dt):
-        return np.array([[0.0, 0.0, 0.0], [daccel(x[0]) * dt, 1.0, 0.0], [0.0, dt, 1.0]])
+        x = np.asarray(x, dtype=float)
+        J = np.zeros(x.shape[:-1] + (3, 3))
+        J[..., 1, 0] = daccel(x[..., 0]) * dt
+        J[..., 1, 1] = J[..., 2, 2] = 1.0
+        J[..., 2, 1] = dt
+        return J
 
     def Q(dt):
         w = np.array([0.0, dt, 0.5 * dt**2])
         return sa**2 * np.outer(w, w) + np.diag([sr**2, 0.0, 0.0])
 
     return Model(state_names=("phi [rad]", "ydot [m/s]", "y [m]"), input_names=("phi_cmd [rad]",),
-                 g=g, G=G, Q=Q, name=f"quad2d ({lateral_accel})")
+                 g=g, G=G, Q=Q, name=f"quad2d ({lateral_accel})", vectorized=True)
 
 
 def quad2d_range_sensor(sigma_m: float, wall_y_m: float = 5.0, rate_hz: float | None = None) -> Sensor:
     """Sideways range to the wall, ``r = (wall_y - y) / cos φ`` (eqs. 33, 35), noise σ [m].
 
-    ``h`` also accepts an ``(m, 3)`` stack of states and returns ``(m,)`` ranges (for Monte Carlo).
+    ``h`` and ``H`` also accept an ``(M, 3)`` stack of states: ``(M,)`` ranges, ``(M, 1, 3)`` Jacobians.
     """
     s = as_positive("sigma_m", sigma_m)
     wall = as_finite_number("wall_y_m", wall_y_m)
@@ -87,8 +94,12 @@ def quad2d_range_sensor(sigma_m: float, wall_y_m: float = 5.0, rate_hz: float | 
         return np.atleast_1d((wall - x[..., 2]) / np.cos(x[..., 0]))
 
     def H(x):
-        c = np.cos(x[0])
-        return np.array([[(wall - x[2]) * np.sin(x[0]) / c**2, 0.0, -1.0 / c]])
+        x = np.asarray(x, dtype=float)
+        c = np.cos(x[..., 0])
+        J = np.zeros(x.shape[:-1] + (1, 3))
+        J[..., 0, 0] = (wall - x[..., 2]) * np.sin(x[..., 0]) / c**2
+        J[..., 0, 2] = -1.0 / c
+        return J
 
     return Sensor(name="range", measurement_names=("range [m]",), h=h, H=H,
-                  R=np.full((1, 1), s**2), rate_hz=rate_hz)
+                  R=np.full((1, 1), s**2), rate_hz=rate_hz, vectorized=True)
