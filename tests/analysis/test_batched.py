@@ -32,6 +32,17 @@ def _dropouts(samples, rng):
     return out
 
 
+def _assert_same_runs(batched, looped):
+    for name in looped:
+        a, b = batched[name], looped[name]
+        np.testing.assert_array_equal(a.truth, b.truth)
+        np.testing.assert_allclose(a.errors, b.errors, rtol=0, atol=1e-10)
+        np.testing.assert_allclose(a.sigma, b.sigma, rtol=0, atol=1e-10)
+        np.testing.assert_allclose(a.nees, b.nees, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(a.nis["range"], b.nis["range"], rtol=1e-9, atol=1e-9)
+        np.testing.assert_array_equal(a.rejected["range"], b.rejected["range"])
+
+
 @pytest.mark.parametrize("gate", [None, 0.999])
 def test_batched_equals_one_run_at_a_time(gate):
     model, sensor = quad1d_model(0.3), quad1d_range_sensor(0.1, rate_hz=10)
@@ -43,27 +54,9 @@ def test_batched_equals_one_run_at_a_time(gate):
     kw = dict(corrupt=_corrupt, gate_probability=gate)
     batched = run_monte_carlo(*args, np.random.default_rng(3), batched=True, **kw)
     looped = run_monte_carlo(*args, np.random.default_rng(3), batched=False, **kw)
-    for name in filters:
-        a, b = batched[name], looped[name]
-        np.testing.assert_array_equal(a.truth, b.truth)
-        np.testing.assert_allclose(a.errors, b.errors, rtol=0, atol=1e-10)
-        np.testing.assert_allclose(a.sigma, b.sigma, rtol=0, atol=1e-10)
-        np.testing.assert_allclose(a.nees, b.nees, rtol=1e-9, atol=1e-9)
-        np.testing.assert_allclose(a.nis["range"], b.nis["range"], rtol=1e-9, atol=1e-9)
-        np.testing.assert_array_equal(a.rejected["range"], b.rejected["range"])
+    _assert_same_runs(batched, looped)
     if gate is not None:
         assert batched["tuned"].rejected["range"].sum() > 0  # the gate was exercised
-
-
-def _assert_same_runs(batched, looped):
-    for name in looped:
-        a, b = batched[name], looped[name]
-        np.testing.assert_array_equal(a.truth, b.truth)
-        np.testing.assert_allclose(a.errors, b.errors, rtol=0, atol=1e-10)
-        np.testing.assert_allclose(a.sigma, b.sigma, rtol=0, atol=1e-10)
-        np.testing.assert_allclose(a.nees, b.nees, rtol=1e-9, atol=1e-9)
-        np.testing.assert_allclose(a.nis["range"], b.nis["range"], rtol=1e-9, atol=1e-9)
-        np.testing.assert_array_equal(a.rejected["range"], b.rejected["range"])
 
 
 @pytest.mark.parametrize("gate", [None, 0.999])
