@@ -6,16 +6,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from quadlib import run_filter
 from quadlib.analysis.metrics import chi2_interval, nees
 from quadlib.constants import G0
 from quadlib.geometry import quat_conjugate, quat_from_euler, quat_multiply, quat_to_dcm, quat_to_euler, quat_to_rotvec
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.imu import ImuLog
 from quadlib.nav import InsParams, estimate_ins, imu_blocks, ins_gps_sensor, ins_model
-from quadlib.quad.estimate import Quad3DTuning, quad3d_ekf
+from quadlib.quad.estimate import Quad3DTuning, estimate_quad3d
 from quadlib.quad.flight import SensorNoise3D, square_course
-from quadlib.quad.scenario import imu_with_magnetometer, run3d_measurements, simulate_run3d
+from quadlib.quad.scenario import imu_with_magnetometer, simulate_run3d
 from quadlib.samples import Samples
 
 MODEL = ins_model(0.01, 0.2, 1e-4, 1e-3)
@@ -103,8 +102,7 @@ def _square_flights(n_flights, params, seed=8, offline=False):
     for _ in range(n_flights):
         run = simulate_run3d(flight, noise, rng, decimate=10)
         x0 = run.truth[0] + rng.normal(size=7) * np.sqrt(np.diag(tuning.P0))
-        ekf = run_filter(quad3d_ekf(x0, 10 * flight.dt, tuning), run.t, run.u,
-                         run3d_measurements(run, *tuning.sensors()))
+        ekf = estimate_quad3d(run.t, run.u, run.gps, run.mag, x0, tuning)
         log = imu_with_magnetometer(run, flight, noise, rng)
         ins = estimate_ins(log, run.gps, run.baro, params, decimate=10, baro_offset_m=0.0, offline=offline)
         k = np.searchsorted(flight.t, ins.t)
