@@ -39,6 +39,7 @@ from quadlib.compiled_kernels import (
     kalman_update,
     multiply,
     normalize,
+    product,
     rate_matrix,
     rotvec,
     saturated,
@@ -122,7 +123,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             phi = (u - b) * dt
             G = _error_jacobian(phi, dt)
             q = multiply(q, exp_rotvec(phi))
-            P = (G @ P) @ G.T + Q
+            P = product(product(G, P), G.T) + Q
             if saturated(u, gyro_range):
                 for i in range(3):
                     P[i, i] += (gyro_range * dt) ** 2
@@ -131,7 +132,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             H7 = np.zeros((3, 7))
             H7[:, :4] = body_vector_jacobian(q, up)
             y = gravity_z[k] - dcm(q).T @ up
-            e, P, nis_k, S, ok = kalman_update(P, H7 @ _add_jacobian(q), y, R_g, 6, gravity_gate)
+            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_g, 6, gravity_gate)
             inn_g[k], S_g[k], nis[0, k], used[0, k], rejected[0, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
@@ -141,7 +142,8 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             H7 = np.zeros((1, 7))
             H7[0, :4] = R[2] @ (2.0 * rate_matrix(q).T)
             y = np.array([wrap(heading_z[k] - math.atan2(m_n[1], m_n[0]))])
-            e, P, nis_k, S, ok = kalman_update(P, H7 @ _add_jacobian(q), y, R_h, heading_uncorrected_from, heading_gate)
+            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_h, heading_uncorrected_from,
+                                               heading_gate)
             inn_h[k], S_h[k], nis[1, k], used[1, k], rejected[1, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
@@ -166,7 +168,7 @@ def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
         x, P, u = xs[k], Ps[k], gyro[k]
         phi = (u - x[4:]) * dt
         F = _error_jacobian(phi, dt)
-        prior_P = (F @ P) @ F.T + _process_noise(sg, sb, dt)
+        prior_P = product(product(F, P), F.T) + _process_noise(sg, sb, dt)
         if saturated(u, gyro_range):
             for i in range(3):
                 prior_P[i, i] += (gyro_range * dt) ** 2

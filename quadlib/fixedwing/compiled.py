@@ -44,6 +44,7 @@ from quadlib.compiled_kernels import (
     multiply,
     normalize,
     positive_definite,
+    product,
     rate_matrix,
     rotvec,
     saturated,
@@ -80,7 +81,7 @@ def _renormalized(x, P):
     J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
     x_new = x.copy()
     x_new[:4] = q / norm
-    return x_new, (J @ P) @ J.T
+    return x_new, product(product(J, P), J.T)
 
 
 @njit(cache=True)
@@ -162,7 +163,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
                 q_dt, Q = dt, np.diag(np.array([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3))
             Q_k = Q + (gyro_range * dt) ** 2 * quarter if saturated(u, gyro_range) else Q
             G = _step_jacobian(x[:4], (u - x[4:]) * dt, dt)
-            x, P = _renormalized(_gyro_step(x, u, dt), (G @ P) @ G.T + Q_k)
+            x, P = _renormalized(_gyro_step(x, u, dt), product(product(G, P), G.T) + Q_k)
         for s in range(3):
             if diverged(x, P):  # the caller hands the log to run_filter, which names the step
                 xs[k:], Ps[k:] = np.nan, np.nan

@@ -30,7 +30,15 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import diverged, euler_dcm, kalman_update, positive_definite, upper_cholesky, wrap
+from quadlib.compiled_kernels import (
+    diverged,
+    euler_dcm,
+    kalman_update,
+    positive_definite,
+    product,
+    upper_cholesky,
+    wrap,
+)
 
 __all__: list[str] = []  # internal: estimate.py is the interface
 
@@ -104,7 +112,7 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
                 q_dt, Q = dt, _Q(accel_sigma, yaw_rate_sigma, dt)
             F = _G(x, u[k - 1], dt)
             x = _g(x, u[k - 1], dt, g_down)
-            P = (F @ P) @ F.T + Q
+            P = product(product(F, P), F.T) + Q
         while e < event_step.shape[0] and event_step[e] == k:
             if diverged(x, P):  # the caller hands the log to run_filter
                 xs[k:], Ps[k:] = np.nan, np.nan
