@@ -44,7 +44,7 @@ from quadlib.attitude.orientation import heading_sensor
 from quadlib.constants import GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_dcm, quat_to_rotvec
+from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Model, Sensor
@@ -95,7 +95,7 @@ def _add_error(x, e):
 
 
 def _error_between(x1, x0):
-    return np.concatenate([quat_to_rotvec(quat_multiply(quat_conjugate(x0[Q_]), x1[Q_])), x1[4:] - x0[4:]])
+    return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(x0[Q_]), x1[Q_])), x1[4:] - x0[4:]])
 
 
 def _add_jacobian(x):
