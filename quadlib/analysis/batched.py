@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from filterpy.kalman import MerweScaledSigmaPoints
 
 from quadlib.filters import LinearKF, ModelEKF, ModelUKF, positive_definite
 from quadlib.model import Sensor
@@ -40,7 +41,7 @@ __all__ = ["batch_supported", "run_batch"]
 def _default_ukf(filt) -> bool:
     """A ModelUKF with its own sigma points and plain means and residuals."""
     points = filt.points_fn
-    return (type(points).__name__ == "MerweScaledSigmaPoints" and points.subtract is np.subtract
+    return (type(points) is MerweScaledSigmaPoints and points.subtract is np.subtract
             and filt.x_mean is None and filt.residual_x is np.subtract and filt.state_add is np.add)
 
 
