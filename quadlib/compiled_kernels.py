@@ -115,10 +115,10 @@ def inverse(S):
 
 
 @njit(cache=True)
-def kalman_update(P, H, y, R, uncorrected_from, gate):
+def kalman_update(P, H, y, R, corrected, gate):
     """One EKF update of the error state (zero before it): the error ``K y``, Joseph's covariance,
-    the NIS, ``S``, and whether the gate (``gate ≤ 0``: none) passed it. Gain rows from
-    ``uncorrected_from`` on are zero (a consider update)."""
+    the NIS, ``S``, and whether the gate (``gate ≤ 0``: none) passed it. Gain rows where the bool
+    mask ``corrected`` is False are zero (a consider update, :attr:`quadlib.model.Sensor.uncorrected`)."""
     n, m = P.shape[0], y.shape[0]
     PHT = product(P, H.T)
     S = product(H, PHT) + R
@@ -130,7 +130,9 @@ def kalman_update(P, H, y, R, uncorrected_from, gate):
     if gate > 0.0 and nis > gate:
         return np.zeros(n), P, nis, S, False
     K = product(PHT, SI)
-    K[uncorrected_from:, :] = 0.0
+    for i in range(n):
+        if not corrected[i]:
+            K[i, :] = 0.0
     I_KH = np.eye(n) - product(K, H)
     P_new = product(product(I_KH, P), I_KH.T) + product(product(K, R), K.T)
     e = np.zeros(n)
@@ -138,6 +140,13 @@ def kalman_update(P, H, y, R, uncorrected_from, gate):
         for j in range(m):
             e[i] += K[i, j] * y[j]
     return e, P_new, nis, S, True
+
+
+def corrected_mask(n, uncorrected=()):
+    """The ``corrected`` mask of :func:`kalman_update` for ``n`` error states: all but ``uncorrected``."""
+    mask = np.ones(n, np.bool_)
+    mask[list(uncorrected)] = False
+    return mask
 
 
 @njit(cache=True)
@@ -181,6 +190,22 @@ def positive_definite(P):
         return P
     w, V = np.linalg.eigh(P)
     return (V * np.maximum(w, 1e-12 * max(w.max(), 2.2250738585072014e-308))) @ V.T  # np.finfo(float).tiny
+
+
+@njit(cache=True)
+def attitude_bias_jacobian(phi, dt):
+    """``∂δx⁺/∂δx`` over ``[δθ, δb]`` of one gyro step ``φ = (ω − b) Δt``
+    (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
+    theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
+    K = skew(phi)
+    if theta > 1e-6:
+        a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
+    else:
+        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
+    G = np.eye(6)
+    G[:3, :3] = dcm(exp_rotvec(phi)).T
+    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * (K @ K))
+    return G
 
 
 @njit(cache=True)

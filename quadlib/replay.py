@@ -120,6 +120,24 @@ def sample_steps(t: np.ndarray, grid_resolution: float, m: Measurements) -> tupl
     return np.searchsorted(t, m.t - tol, side="left"), m.missing & ~duplicate, duplicate
 
 
+def compiled_schedule(filt, t, grid_resolution: float, measurements: list) -> tuple | None:
+    """:func:`run_filter`'s schedule for a compiled twin of its loop: per sensor ``(steps, missing,
+    duplicate)`` (:func:`sample_steps`), and the events ``(step, sensor, sample)`` as three arrays in
+    the order ``run_filter`` applies them (by step, then sensor, then sample; present samples only).
+    None if a sample lies outside ``t`` (``run_filter`` then names it)."""
+    for i, m in enumerate(measurements):  # what run_filter checks before its loop
+        filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
+        tol = max(grid_resolution, m.time_resolution_s)
+        if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
+            return None
+    per_sensor = [sample_steps(t, grid_resolution, m) for m in measurements]
+    steps, sensors, samples = (np.concatenate(a) for a in zip(*[
+        (s[~miss & ~dup], np.full((~miss & ~dup).sum(), i), np.flatnonzero(~miss & ~dup))
+        for i, (s, miss, dup) in enumerate(per_sensor)], strict=True))
+    order = np.lexsort((samples, sensors, steps))
+    return per_sensor, (steps[order], sensors[order], samples[order])
+
+
 def run_filter(filt, t, u, measurements, gate_probability: float | None = None) -> FilterRun:
     """Run ``filt`` over a log: predict at every input time, update at every sample.
 

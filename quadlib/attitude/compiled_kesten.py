@@ -117,6 +117,7 @@ def kesten_pass(kind, t, gyro, z0, present0, z1, present1, x0, P0, dt0, gyro_sig
     inn1, S1, nis1 = np.full((n_steps, z1.shape[1]), np.nan), np.full((n_steps, z1.shape[1], z1.shape[1]), np.nan), \
         np.full(n_steps, np.nan)
     x, P = x0.copy(), P0.copy()
+    every = np.ones(n, np.bool_)
     if kind != TOVKF:
         x = normalize(x)
     q_dt = dt0
@@ -143,7 +144,7 @@ def kesten_pass(kind, t, gyro, z0, present0, z1, present1, x0, P0, dt0, gyro_sig
                 continue
             z, R, ref = (z0[k], R0, ref0) if s == 0 else (z1[k], R1, ref1)
             H, y = _measure(kind, s, x, z, ref, n)
-            e, P, nis_k, S, _ = kalman_update(P, H, y, R, n, 0.0)
+            e, P, nis_k, S, _ = kalman_update(P, H, y, R, every, 0.0)
             x = _fold(kind, x, e)
             if s == 0:
                 inn0[k], S0[k], nis0[k] = y, S, nis_k

@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.compiled_kernels import (
+    attitude_bias_jacobian,
     body_vector_jacobian,
     dcm,
     exp_rotvec,
@@ -43,7 +44,6 @@ from quadlib.compiled_kernels import (
     rate_matrix,
     rotvec,
     saturated,
-    skew,
     wrap,
 )
 
@@ -55,22 +55,6 @@ def _process_noise(sg, sb, dt):
     """``Q(Δt) = diag((σ_ω Δt)² I, σ_b² Δt I)`` (:func:`~quadlib.attitude.bias_model.attitude_bias_model`)."""
     a, c = (sg * dt) ** 2, sb**2 * dt
     return np.diag(np.array([a, a, a, c, c, c]))
-
-
-@njit(cache=True)
-def _error_jacobian(phi, dt):
-    """``∂δx⁺/∂δx`` of one gyro step ``φ = (ω − b) Δt``
-    (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
-    theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-    K = skew(phi)
-    if theta > 1e-6:
-        a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
-    else:
-        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
-    G = np.eye(6)
-    G[:3, :3] = dcm(exp_rotvec(phi)).T
-    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * (K @ K))
-    return G
 
 
 @njit(cache=True)
@@ -94,10 +78,11 @@ def _fold(q, b, e):
 @njit(cache=True)
 def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P0, dt0, sg, sb, gravity_var,
               heading_var, zero_rate_var, gravity_gate, heading_gate, zero_rate_gate, gyro_range,
-              heading_uncorrected_from, up):
+              heading_corrected, up):
     """The forward pass: ``gyro`` with its NaN rows already held (:func:`~quadlib.replay.held_inputs`).
     NaN rows of the ``*_z`` arrays (or of ``heading_context``) are missing samples; a gate ``≤ 0``
-    means no gate; ``gyro_range ≤ 0`` a gyro that never saturates.
+    means no gate; ``gyro_range ≤ 0`` a gyro that never saturates; ``heading_corrected`` is the
+    heading gain's mask (:func:`~quadlib.compiled_kernels.kalman_update`).
 
     Returns ``x (N, 7)``, ``P (N, 6, 6)`` and, per sensor, ``innovation``, ``S``, ``nis``,
     ``used`` and ``rejected`` (NaN / False where the sample was missing)."""
@@ -113,6 +98,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
     R_g, R_h, R_z = gravity_var * np.eye(3), np.full((1, 1), heading_var), zero_rate_var * np.eye(3)
     H_z = np.zeros((3, 6))
     H_z[:, 3:] = np.eye(3)
+    every = np.ones(6, np.bool_)
     for k in range(n):
         if k:
             u = gyro[k - 1]
@@ -121,7 +107,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
                 q_dt = dt
                 Q = _process_noise(sg, sb, dt)
             phi = (u - b) * dt
-            G = _error_jacobian(phi, dt)
+            G = attitude_bias_jacobian(phi, dt)
             q = multiply(q, exp_rotvec(phi))
             P = product(product(G, P), G.T) + Q
             if saturated(u, gyro_range):
@@ -132,7 +118,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             H7 = np.zeros((3, 7))
             H7[:, :4] = body_vector_jacobian(q, up)
             y = gravity_z[k] - dcm(q).T @ up
-            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_g, 6, gravity_gate)
+            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_g, every, gravity_gate)
             inn_g[k], S_g[k], nis[0, k], used[0, k], rejected[0, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
@@ -142,14 +128,14 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
             H7 = np.zeros((1, 7))
             H7[0, :4] = R[2] @ (2.0 * rate_matrix(q).T)
             y = np.array([wrap(heading_z[k] - math.atan2(m_n[1], m_n[0]))])
-            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_h, heading_uncorrected_from,
+            e, P, nis_k, S, ok = kalman_update(P, product(H7, _add_jacobian(q)), y, R_h, heading_corrected,
                                                heading_gate)
             inn_h[k], S_h[k], nis[1, k], used[1, k], rejected[1, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
         if not np.isnan(zero_rate_z[k]).any():  # the gyro at rest measures its bias
             y = zero_rate_z[k] - b
-            e, P, nis_k, S, ok = kalman_update(P, H_z, y, R_z, 6, zero_rate_gate)
+            e, P, nis_k, S, ok = kalman_update(P, H_z, y, R_z, every, zero_rate_gate)
             inn_z[k], S_z[k], nis[2, k], used[2, k], rejected[2, k] = y, S, nis_k, ok, not ok
             if ok:
                 q, b = _fold(q, b, e)
@@ -167,7 +153,7 @@ def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
         dt = t[k + 1] - t[k]
         x, P, u = xs[k], Ps[k], gyro[k]
         phi = (u - x[4:]) * dt
-        F = _error_jacobian(phi, dt)
+        F = attitude_bias_jacobian(phi, dt)
         prior_P = product(product(F, P), F.T) + _process_noise(sg, sb, dt)
         if saturated(u, gyro_range):
             for i in range(3):

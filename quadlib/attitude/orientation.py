@@ -24,6 +24,7 @@ import numpy as np
 from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.attitude.compiled_mekf import calm_samples, inertial_lowpass_pass, mekf_pass, rts_pass
+from quadlib.compiled_kernels import corrected_mask
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
@@ -401,7 +402,8 @@ def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list, params: Orient
         nan3 if zero_rate is None else np.ascontiguousarray(zero_rate.z), ekf.nominal, ekf.P, ekf.dt,
         params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gravity_sigma_m_s2**2,
         params.heading_sigma_rad**2, params.gyro_sigma_rad_s**2, gate(3) if gravity.sensor.gated else 0.0,
-        gate(1), gate(3), params.gyro_range_rad_s or 0.0, 6 if offline else 3, -GRAVITY_N)
+        gate(1), gate(3), params.gyro_range_rad_s or 0.0,
+        corrected_mask(6, () if heading is None else heading.sensor.uncorrected), -GRAVITY_N)
     if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
         return None
     sensors = {}

@@ -153,6 +153,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
     innovations, Ss = np.full((3, n, 3), np.nan), np.full((3, n, 3, 3), np.nan)
     nis, used, rejected = np.full((3, n), np.nan), np.zeros((3, n), np.bool_), np.zeros((3, n), np.bool_)
     x, P = x0.copy(), P0.copy()
+    every = np.ones(7, np.bool_)
     x[:4] = normalize(x[:4])
     quarter = np.diag(np.array([0.25, 0.25, 0.25, 0.25, 0.0, 0.0, 0.0]))  # a quaternion component per radian
     q_dt, Q = dt0, np.diag(np.array([0.25 * (sg * dt0) ** 2] * 4 + [sb**2 * dt0] * 3))
@@ -173,7 +174,7 @@ def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_con
                 continue
             h, H = _predicted(s, x, c, field_n, g)
             y = z - h
-            dx, P_new, nis_k, S, ok = kalman_update(P, H, y, R[s], 7, gate)
+            dx, P_new, nis_k, S, ok = kalman_update(P, H, y, R[s], every, gate)
             innovations[s, k], Ss[s, k], nis[s, k], used[s, k], rejected[s, k] = y, S, nis_k, ok, not ok
             if ok:
                 x, P = _renormalized(x + dx, P_new)

@@ -102,6 +102,7 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
     xs, Ps, inn_g, S_g, nis_g, inn_m, S_m, nis_m = _outputs(n, gps_z.shape[0], mag_z.shape[0])
     H_gps, H_mag = np.zeros((6, 7)), np.zeros((1, 7))
     H_gps[:, :6], H_mag[0, YAW] = np.eye(6), 1.0
+    every = np.ones(7, np.bool_)
     x, P = x0.copy(), P0.copy()
     q_dt, Q = dt0, _Q(accel_sigma, yaw_rate_sigma, dt0)
     e = 0
@@ -120,11 +121,11 @@ def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             j = event_sample[e]
             if event_sensor[e] == 0:
                 y = gps_z[j] - x[:6]
-                dx, P, nis_g[j], S_g[j], _ = kalman_update(P, H_gps, y, R_gps, 7, 0.0)
+                dx, P, nis_g[j], S_g[j], _ = kalman_update(P, H_gps, y, R_gps, every, 0.0)
                 inn_g[j] = y
             else:
                 y = np.array([wrap(mag_z[j, 0] - x[YAW])])
-                dx, P, nis_m[j], S_m[j], _ = kalman_update(P, H_mag, y, R_mag, 7, 0.0)
+                dx, P, nis_m[j], S_m[j], _ = kalman_update(P, H_mag, y, R_mag, every, 0.0)
                 inn_m[j] = y
             x = x + dx
             e += 1

@@ -11,7 +11,7 @@ from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
 from quadlib.quad.compiled import quad3d_ekf_pass, quad3d_ukf_pass
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
-from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter, sample_steps
+from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, run_filter
 from quadlib.samples import Measurements, Samples, time_resolution
 from quadlib.validation import as_instance, as_times, as_vector, check_fields
 
@@ -145,19 +145,13 @@ def _compiled_run(filt: ModelEKF | ModelUKF, t: np.ndarray, grid_resolution: flo
     None if the estimate became non-finite (the readable loop then names where)."""
     n = t.size
     u, held = held_inputs(filt.model, u, n)
-    for i, m in enumerate(measurements):  # what run_filter checks before its loop
-        filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
-        tol = max(grid_resolution, m.time_resolution_s)
-        if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
-            return None  # run_filter names the times
-    schedule = [sample_steps(t, grid_resolution, m) for m in measurements]
-    steps, sensors, samples = (np.concatenate(a) for a in zip(*[
-        (s[~miss & ~dup], np.full((~miss & ~dup).sum(), i), np.flatnonzero(~miss & ~dup))
-        for i, (s, miss, dup) in enumerate(schedule)], strict=True))
-    order = np.lexsort((samples, sensors, steps))  # by step, then sensor, then sample: run_filter's order
+    planned = compiled_schedule(filt, t, grid_resolution, measurements)
+    if planned is None:
+        return None  # run_filter names the times
+    schedule, events = planned
     gps, mag = measurements
     sa = np.broadcast_to(np.asarray(tuning.accel_sigma_m_s2, dtype=float), (3,)).copy()
-    args = (t, u, steps[order], sensors[order], samples[order], gps.z, mag.z, filt.state_view().copy(), filt.P,
+    args = (t, u, *events, gps.z, mag.z, filt.state_view().copy(), filt.P,
             filt.dt, sa, float(tuning.yaw_rate_sigma_rad_s), G0, gps.sensor.R, mag.sensor.R)
     if isinstance(filt, ModelUKF):
         points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
