@@ -80,8 +80,15 @@ def main() -> None:
     for label, params in (("heading-only", InsParams(use_gps_height=False, gps_delay_s=0.35, accel_sigma_m_s2=3.3)),
                           ("tilt-aware heading", InsParams(use_gps_height=False, gps_delay_s=0.35, accel_sigma_m_s2=3.3,
                                                            heading_tilt_aware=True))):
-        rows.append((f"INS, {label} (PX4 log: 83 Hz, GPS 5 Hz, baro, mag)",
-                     best_us_per_step(lambda p=params: estimate_ins(flight.imu, flight.gps, flight.baro, p), steps)))
+        for kind, compiled in (("compiled", True), ("readable run_filter", False)):
+            rows.append((f"INS, {label}, {kind} (PX4 log: 83 Hz, GPS 5 Hz, baro, mag)",
+                         best_us_per_step(lambda p=params, c=compiled: estimate_ins(
+                             flight.imu, flight.gps, flight.baro, p, compiled=c), steps)))
+    for kind, compiled in (("compiled", True), ("readable rts_smooth", False)):
+        rows.append((f"INS smoothed (forward + backward pass), {kind} (same log)",
+                     best_us_per_step(lambda c=compiled: estimate_ins(flight.imu, flight.gps, flight.baro, InsParams(
+                         use_gps_height=False, gps_delay_s=0.35, accel_sigma_m_s2=3.3), offline=True, compiled=c),
+                         steps)))
 
     t = np.arange(2000) * 0.004
     baro = [Measurements(baro_altitude_sensor(0.39), t[::10], np.zeros(200))]

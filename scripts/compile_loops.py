@@ -14,6 +14,7 @@ from quadlib.attitude.orientation import estimate_orientation
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.control import altitude_step, fly
+from quadlib.data import load_px4_log
 from quadlib.fixedwing import (
     FixedWingNoise,
     error_state_ukf,
@@ -23,6 +24,7 @@ from quadlib.fixedwing import (
     salmony_ekf,
 )
 from quadlib.imu import ImuNoise
+from quadlib.nav import InsParams, estimate_ins
 from quadlib.perception import cast_rays, corridor_map
 from quadlib.quad import SensorNoise3D, estimate_quad3d, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
 from quadlib.sim.imu import imu_samples
@@ -46,6 +48,10 @@ def main() -> None:
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 8's filters
         estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)
+    px4 = load_px4_log()
+    for tilt_aware in (False, True):  # the inertial navigation filter, forward and smoothed
+        estimate_ins(px4.imu.slice(0, 800), px4.gps, px4.baro, InsParams(heading_tilt_aware=tilt_aware),
+                     offline=not tilt_aware)
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 

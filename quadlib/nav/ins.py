@@ -41,6 +41,7 @@ import numpy as np
 from quadlib.attitude.bias_model import gyro_error_jacobians
 from quadlib.attitude.checks import SensorChecks, plausible_mag
 from quadlib.attitude.orientation import heading_sensor
+from quadlib.compiled_kernels import corrected_mask
 from quadlib.constants import GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
@@ -48,8 +49,10 @@ from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Model, Sensor
-from quadlib.replay import FilterRun, rts_smooth, run_filter
-from quadlib.samples import Measurements, Samples
+from quadlib.model_filter import group_gates
+from quadlib.nav import compiled
+from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, rts_smooth, run_filter
+from quadlib.samples import Measurements, Samples, time_resolution
 from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
 
 __all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
@@ -244,11 +247,17 @@ class InsParams:
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"InsParams.{name}: expected True or False, got {getattr(self, name)!r}")
 
+    def noise(self, decimate: int = 1) -> tuple[float, np.ndarray, float, float]:
+        """The arguments of :func:`ins_model` for inputs that average ``decimate`` IMU samples: the
+        gyro's σ, the accelerometer's (3,) σ (both divided by √decimate), the two bias walks."""
+        root = float(np.sqrt(decimate))
+        accel = np.broadcast_to(np.asarray(self.accel_sigma_m_s2, dtype=float) / root, (3,)).copy()
+        return (self.gyro_sigma_rad_s / root, accel, self.gyro_bias_walk_rad_s_sqrt_s,
+                self.accel_bias_walk_m_s2_sqrt_s)
+
     def model(self, decimate: int = 1) -> Model:
         """The INS model for inputs that average ``decimate`` IMU samples."""
-        root = float(np.sqrt(decimate))
-        return ins_model(self.gyro_sigma_rad_s / root, np.asarray(self.accel_sigma_m_s2, dtype=float) / root,
-                         self.gyro_bias_walk_rad_s_sqrt_s, self.accel_bias_walk_m_s2_sqrt_s)
+        return ins_model(*self.noise(decimate))
 
     def initial_covariance(self, position_sigma_m, velocity_sigma_m_s) -> np.ndarray:
         """``P0`` over ``[δθ, δv, δp, δb_g, δb_a]``: the tilt's and heading's σ (the heading about
@@ -296,7 +305,7 @@ def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 
 
 def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params: InsParams = InsParams(), *,
                  decimate: int = 1, offline: bool = False, declination_rad: float = 0.0,
-                 baro_offset_m: float | None = None, x0=None) -> FilterRun:
+                 baro_offset_m: float | None = None, x0=None, compiled: bool = True) -> FilterRun:
     """Attitude, velocity, position and IMU biases from an IMU log, GPS and (optionally) a barometer.
 
     Parameters
@@ -322,6 +331,10 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         second, minus the first fix's height.
     x0 : (16,) array_like, optional
         Initial state; by default :func:`ins_initial_state` at the first fix.
+    compiled : bool
+        Run the same steps compiled (:mod:`~quadlib.nav.compiled`; equal to the readable filter to
+        1e-10, tested); False runs :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.run_filter`
+        (and :func:`~quadlib.rts_smooth`), as chapter 14 builds it.
 
     Returns
     -------
@@ -335,8 +348,9 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     if baro is not None:
         baro = as_instance("baro", baro, Samples)
     params = as_instance("params", params, InsParams)
-    if not isinstance(offline, bool):
-        raise TypeError(f"offline: expected True or False, got {offline!r}")
+    for name, flag in (("offline", offline), ("compiled", compiled)):
+        if not isinstance(flag, bool):
+            raise TypeError(f"{name}: expected True or False, got {flag!r}")
     if offline and params.heading_tilt_aware:
         raise ValueError("offline: expected the heading-only update for the smoother (its backward pass assumes an "
                          "optimal forward gain, which the tilt-aware consider update is not), got "
@@ -379,5 +393,59 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
                                  gyro_bias_errors=GYRO_BIAS_ERRORS, tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
+    if compiled:
+        run = _compiled_run(ekf, t, u, measurements, params, decimate)
+        if run is not None:
+            return _compiled_smooth(run, u, params, decimate) if offline else run
     run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
     return rts_smooth(model, run, u) if offline else run
+
+
+def _compiled_run(ekf: ModelEKF, t: np.ndarray, u: np.ndarray, measurements: list, params: InsParams,
+                  decimate: int) -> FilterRun | None:
+    """What ``run_filter(ekf, t, u, measurements, params.gate_probability)`` returns, from
+    :func:`~quadlib.nav.compiled.ins_pass`; None if the estimate became non-finite or a sample lies
+    outside ``t`` (the readable loop then names where)."""
+    u, held = held_inputs(ekf.model, u, t.size)
+    planned = compiled_schedule(ekf, t, time_resolution(t), measurements)
+    if planned is None:
+        return None
+    per_sensor, (steps, sensors, samples) = planned
+    kind = {"gps": compiled.GPS, "baro": compiled.BARO, "heading": compiled.HEADING}
+    by_kind = {kind[m.sensor.name]: m for m in measurements}
+    p = params.gate_probability
+
+    def gates(sensor):
+        return np.array(group_gates(sensor, p) if p is not None and sensor.gated else [0.0] * len(sensor.groups))
+
+    gps, baro, heading = (by_kind.get(k) for k in (compiled.GPS, compiled.BARO, compiled.HEADING))
+    gps_index = gps.sensor.H(ekf.nominal).argmax(axis=1)  # a GPS component measures one state
+    gps_group = np.zeros(gps.sensor.dim_z, np.int64)
+    for g, rows in enumerate(gps.sensor.groups):
+        gps_group[list(rows)] = g
+    absent = Measurements(ins_baro_sensor(1.0), np.zeros(0), np.zeros((0, 1)))  # a sensor the log lacks
+    baro, heading = (absent if m is None else m for m in (baro, heading))
+    heading_context = np.zeros((0, 3)) if heading.context is None else np.ascontiguousarray(heading.context)
+    xs, Ps, *traces = compiled.ins_pass(
+        t, u, steps, np.array([kind[m.sensor.name] for m in measurements])[sensors], samples, ekf.nominal, ekf.P,
+        ekf.dt, *params.noise(decimate), GRAVITY_N, gps.t, np.ascontiguousarray(gps.z), gps_index, gps_group,
+        gates(gps.sensor), gps.sensor.R, gps.sensor.reset_after_s or 0.0, np.ascontiguousarray(baro.z),
+        gates(baro.sensor)[0], baro.sensor.R, np.ascontiguousarray(heading.z), heading_context,
+        gates(heading.sensor)[0], heading.sensor.R, corrected_mask(15, heading.sensor.uncorrected),
+        params.heading_tilt_aware)
+    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
+        return None
+    out = {}
+    for m, (_, missing, duplicate) in zip(measurements, per_sensor, strict=True):
+        innovation, S, nis, used, rejected, reset = traces[kind[m.sensor.name]]
+        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=used, rejected=rejected,
+                                         reset=reset, missing=missing, duplicate=duplicate)
+    return FilterRun(t=t, x=xs, P=Ps, sensors=out, held_input=held)
+
+
+def _compiled_smooth(run: FilterRun, u: np.ndarray, params: InsParams, decimate: int) -> FilterRun:
+    """What ``rts_smooth(params.model(decimate), run, u)`` returns, from
+    :func:`~quadlib.nav.compiled.ins_rts_pass`."""
+    u, _ = held_inputs(params.model(decimate), u, run.t.size)
+    xs, Ps = compiled.ins_rts_pass(run.t, u, run.x, run.P, *params.noise(decimate), GRAVITY_N)
+    return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input)
