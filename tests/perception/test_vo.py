@@ -80,6 +80,30 @@ def test_the_eight_point_solution_is_the_full_svds_bit_for_bit():
                                           U @ np.diag([1.0, 1.0, 0.0]) @ Vt / np.sqrt(2.0))
 
 
+@pytest.mark.parametrize("n", [8, 9, 30])
+def test_a_stack_of_point_sets_gives_the_fits_one_by_one_bit_for_bit(n):
+    """RANSAC fits its first hundred minimal sets as one stack: each fit must be the one it would get
+    alone, bit for bit, so that the same inliers win."""
+    rng = np.random.default_rng(4)
+    x1, x2, _, _ = _pair(CAMERA_IN_BODY, [0.0, 0.0, -2.0], _rotation([0.02, -0.1, 0.03]) @ CAMERA_IN_BODY,
+                         [0.3, -0.2, -2.1], sigma=1.0, rng=rng)
+    picks = np.array([rng.choice(len(x1), n, replace=False) for _ in range(50)])
+    stacked = essential_eight_point(x1[picks], x2[picks])
+    assert stacked.shape == (50, 3, 3)
+    for pick, E in zip(picks, stacked, strict=True):
+        np.testing.assert_array_equal(E, essential_eight_point(x1[pick], x2[pick]))
+
+
+def test_stacks_of_points_must_match_and_hold_eight_pairs():
+    x = np.zeros((4, 8, 3))
+    with pytest.raises(ValueError, match=r"x1, x2: expected at least 8 matched points .* got \(4, 7, 3\) and"):
+        essential_eight_point(x[:, :7], x[:, :7])
+    with pytest.raises(ValueError, match=r"got \(4, 8, 3\) and \(3, 8, 3\)"):
+        essential_eight_point(x, x[:3])
+    with pytest.raises(ValueError, match=r"got \(4, 8, 2\)"):
+        essential_eight_point(x[..., :2], x[..., :2])
+
+
 def test_the_four_decompositions_hold_the_truth_once_and_triangulation_is_exact():
     x1, x2, R_true, t_true = _pair(CAMERA_IN_BODY, [0.0, 0.0, -2.0], CAMERA_IN_BODY, [0.6, 0.2, -2.0])
     options = decompose_essential(essential_eight_point(x1, x2))
