@@ -41,6 +41,7 @@ from quadlib.compiled_kernels import (
     diverged,
     exp_rotvec,
     kalman_update,
+    matrix,
     multiply,
     normalize,
     positive_definite,
@@ -64,7 +65,7 @@ def _step_jacobian(q, phi, dt):
     k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
     v0, v1, v2 = sinc * phi[0], sinc * phi[1], sinc * phi[2]
     J = np.eye(7)
-    J[:4, :4] = np.array([[c, -v0, -v1, -v2], [v0, c, v2, -v1], [v1, -v2, c, v0], [v2, v1, -v0, c]])
+    J[:4, :4] = matrix(4, 4, (c, -v0, -v1, -v2, v0, c, v2, -v1, v1, -v2, c, v0, v2, v1, -v0, c))
     d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
     d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
     J[:4, 4:] = -dt * (np.outer(q, d_w) + rate_matrix(q) @ d_v)

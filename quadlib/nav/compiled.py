@@ -36,6 +36,7 @@ from quadlib.compiled_kernels import (
     exp_rotvec,
     inverse,
     kalman_update,
+    matrix,
     multiply,
     normalize,
     product,
@@ -110,7 +111,7 @@ def _heading(x, m_b, tilt_aware):
     R = dcm(x[:4])
     m_n = R @ m_b
     if tilt_aware:
-        d_psi = np.array([[-m_n[1], m_n[0], 0.0]]) / (m_n[0] ** 2 + m_n[1] ** 2)
+        d_psi = matrix(1, 3, (-m_n[1], m_n[0], 0.0)) / (m_n[0] ** 2 + m_n[1] ** 2)
         row = product(product(-d_psi, R), skew(m_b))
     else:
         row = R[2:3].copy()
