@@ -8,6 +8,7 @@ are proved equal to their readable twins by their tests, and with them these ker
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -16,6 +17,20 @@ from numba import njit
 from quadlib.imu import SATURATED
 
 __all__: list[str] = []  # internal: the compiled filters use these
+
+
+def called_from_python(loop):
+    """``loop``, a compiled function that Python calls, with each array argument made C-contiguous
+    and writable first. numba compiles one machine code per layout and read-only flag of its
+    arguments: a column view or a read-only log would each cost another compile (15-20 s), on every
+    fresh install, in whichever test or chapter met it first. ``py_func`` is the uncompiled loop."""
+
+    @functools.wraps(loop)
+    def call(*args):
+        return loop(*(np.require(a, requirements="CW") if isinstance(a, np.ndarray) else a for a in args))
+
+    call.py_func = loop.py_func
+    return call
 
 
 @njit(cache=True)

@@ -26,6 +26,7 @@ from numba import njit
 
 from quadlib.compiled_kernels import (
     body_vector_jacobian,
+    called_from_python,
     dcm,
     diverged,
     exp_rotvec,
@@ -101,6 +102,7 @@ def _fold(kind, x, e):
     return normalize(q)
 
 
+@called_from_python
 @njit(cache=True)
 def kesten_pass(kind, t, gyro, z0, present0, z1, present1, x0, P0, dt0, gyro_sigma, thesis_noise, q_scale,
                 gyro_range, R0, R1, ref0, ref1):

@@ -35,6 +35,7 @@ from numba import njit
 from quadlib.compiled_kernels import (
     attitude_bias_jacobian,
     body_vector_jacobian,
+    called_from_python,
     dcm,
     exp_rotvec,
     kalman_update,
@@ -75,6 +76,7 @@ def _fold(q, b, e):
     return normalize(q), b
 
 
+@called_from_python
 @njit(cache=True)
 def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P0, dt0, sg, sb, gravity_var,
               heading_var, zero_rate_var, gravity_gate, heading_gate, zero_rate_gate, gyro_range,
@@ -143,6 +145,7 @@ def mekf_pass(t, gyro, gravity_z, heading_z, heading_context, zero_rate_z, x0, P
     return xs, Ps, (inn_g, S_g), (inn_h, S_h), (inn_z, S_z), nis, used, rejected
 
 
+@called_from_python
 @njit(cache=True)
 def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
     """The Rauch–Tung–Striebel backward pass of :func:`~quadlib.replay.rts_smooth` for this model:
@@ -175,6 +178,7 @@ def rts_pass(t, gyro, xs, Ps, sg, sb, gyro_range):
     return xs_s, Ps_s
 
 
+@called_from_python
 @njit(cache=True)
 def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
     """:func:`~quadlib.attitude.orientation.rest_mask`'s first step: each sample within the
@@ -196,6 +200,7 @@ def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
     return calm
 
 
+@called_from_python
 @njit(cache=True)
 def inertial_lowpass_pass(t, gyro, accel, usable, tau, backward):
     """One direction of :func:`~quadlib.attitude.orientation.inertial_lowpass`: the frame is

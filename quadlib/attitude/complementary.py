@@ -31,6 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
+from quadlib.compiled_kernels import called_from_python
 from quadlib.geometry import kernels
 from quadlib.geometry.rotations import accel_tilt
 from quadlib.validation import as_finite_array, as_float_array, as_positive, as_vector
@@ -96,6 +97,7 @@ def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None, c
     return np.array(out).reshape(-1, 2)
 
 
+@called_from_python
 @njit(cache=True)
 def _euler_rate_loop(dt, gyro, tilt, roll, pitch, weight):
     """:func:`euler_rate_complementary`'s loop, compiled: the same expressions in the same order."""

@@ -37,6 +37,7 @@ from numba import njit
 
 from quadlib.compiled_kernels import (
     body_vector_jacobian,
+    called_from_python,
     dcm,
     diverged,
     exp_rotvec,
@@ -138,6 +139,7 @@ def _gyro_step(x, u, dt):
     return x_new
 
 
+@called_from_python
 @njit(cache=True)
 def salmony_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_context, mag_z, x0, P0, dt0, sg, sb,
                  gyro_range, R, field_n, g, gate):
@@ -212,6 +214,7 @@ def _sigma_points(P, scale):
     return sigmas, ok
 
 
+@called_from_python
 @njit(cache=True)
 def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airspeed_context, mag_z, x0, P0, dt0,
                          sg, sb, gyro_range, R, field_n, g, gate, Wm, Wc, scale):

@@ -31,6 +31,7 @@ from numba import njit
 
 from quadlib.compiled_kernels import (
     attitude_bias_jacobian,
+    called_from_python,
     dcm,
     diverged,
     exp_rotvec,
@@ -181,6 +182,7 @@ def _traces(k, m):
             np.zeros(k, np.bool_), np.zeros(k, np.bool_))
 
 
+@called_from_python
 @njit(cache=True)
 def ins_pass(t, u, event_step, event_sensor, event_sample, x0, P0, dt0, sg, sa, sbg, sba, gravity_n,
              gps_t, gps_z, gps_index, gps_group, gps_gates, R_gps, reset_after_s,
@@ -256,6 +258,7 @@ def ins_pass(t, u, event_step, event_sensor, event_sample, x0, P0, dt0, sg, sa, 
     return xs, Ps, gps, baro, heading
 
 
+@called_from_python
 @njit(cache=True)
 def ins_rts_pass(t, u, xs, Ps, sg, sa, sbg, sba, gravity_n):
     """The Rauch–Tung–Striebel backward pass of :func:`~quadlib.replay.rts_smooth` for the INS:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from quadlib.compiled_kernels import called_from_python
 from quadlib.validation import as_finite_array, as_positive, as_rng, as_vector
 
 __all__ = ["LidarScan", "cast_rays", "corridor_map", "lidar_scan", "room_map"]
@@ -65,6 +66,7 @@ def cast_rays(origins: np.ndarray, headings: np.ndarray, bearings: np.ndarray, s
     return _first_hits(origins, directions, segments)
 
 
+@called_from_python
 @njit(cache=True)
 def _first_hits(origins, directions, segments):
     """For every pose ``n`` and beam ``b``, the nearest wall hit: ``p + r d = a + s e`` solved for

@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.compiled_kernels import (
+    called_from_python,
     diverged,
     euler_dcm,
     kalman_update,
@@ -89,6 +90,7 @@ def _outputs(n, k_gps, k_mag):
             np.full(k_mag, np.nan))
 
 
+@called_from_python
 @njit(cache=True)
 def quad3d_ekf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, x0, P0, dt0, accel_sigma,
                     yaw_rate_sigma, g_down, R_gps, R_mag):
@@ -164,6 +166,7 @@ def _state_mean(sigmas, Wm):
     return mean
 
 
+@called_from_python
 @njit(cache=True)
 def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, x0, P0, dt0, accel_sigma,
                     yaw_rate_sigma, g_down, R_gps, R_mag, Wm, Wc, scale):
