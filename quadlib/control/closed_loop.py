@@ -28,7 +28,7 @@ from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
 from quadlib.control.vehicle import QuadrotorParams, constants, derivative_compiled, hover_state, step_compiled
 from quadlib.filters import LinearKF, ModelEKF
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate, quat_to_rotvec
+from quadlib.geometry.quaternion import as_unit_quaternions
 from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
 from quadlib.quad.flight import Flight3D
 from quadlib.validation import (
@@ -99,7 +99,7 @@ def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), h
         q = kernels.exp_rotvec(theta(t))
         h = 1e-4
         q_next = kernels.exp_rotvec(a * np.sin(w * (t + h)) + (theta(t) - a * np.sin(w * t)))
-        omega = quat_to_rotvec(kernels.multiply(quat_conjugate(q), q_next)) / h
+        omega = kernels.rotvec(kernels.multiply(kernels.conjugate(q), q_next)) / h
         return Reference(height, 0.0, q, omega)
 
     return reference
