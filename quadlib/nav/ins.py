@@ -250,6 +250,8 @@ class InsParams:
     def noise(self, decimate: int = 1) -> tuple[float, np.ndarray, float, float]:
         """The arguments of :func:`ins_model` for inputs that average ``decimate`` IMU samples: the
         gyro's σ, the accelerometer's (3,) σ (both divided by √decimate), the two bias walks."""
+        if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or decimate < 1:
+            raise ValueError(f"decimate: expected an int >= 1 (IMU samples per filter step), got {decimate!r}")
         root = float(np.sqrt(decimate))
         accel = np.broadcast_to(np.asarray(self.accel_sigma_m_s2, dtype=float) / root, (3,)).copy()
         return (self.gyro_sigma_rad_s / root, accel, self.gyro_bias_walk_rad_s_sqrt_s,

@@ -94,6 +94,13 @@ def test_a_diverging_log_is_named_by_the_readable_loop():
         assert err.value.run.t[-1] == IMU.t[1000]  # the step that row 1000 drives is the first non-finite one
 
 
+@pytest.mark.parametrize("decimate", [0, 2.0, True])
+def test_the_noise_of_a_block_needs_a_whole_number_of_samples(decimate):
+    with pytest.raises(ValueError, match="decimate: expected an int >= 1"):
+        PARAMS.noise(decimate)
+    assert PARAMS.noise(4)[1].tolist() == [1.5, 1.5, 1.5]  # σ / √4
+
+
 def test_compiled_must_be_a_bool():
     with pytest.raises(TypeError, match="compiled: expected True or False, got 1"):
         estimate_ins(IMU, GPS, FLIGHT.baro, PARAMS, compiled=1)
