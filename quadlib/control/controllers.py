@@ -24,7 +24,7 @@ from quadlib.constants import G0
 from quadlib.control.lqr import AltitudeGains, lqr_gain
 from quadlib.control.vehicle import MIXER, QuadrotorParams
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import as_unit_quaternions, quat_conjugate
+from quadlib.geometry.quaternion import as_unit_quaternions
 from quadlib.validation import as_finite_number, as_instance, as_matrix, as_positive, as_vector
 
 __all__ = ["AltitudePid", "AttitudePid", "PositionController", "attitude_error", "attitude_pid_gains",
@@ -53,7 +53,7 @@ def attitude_error(q_hat, q_ref) -> np.ndarray:
 
 
 def _error(q_hat, q_ref):
-    e = kernels.multiply(quat_conjugate(q_ref), q_hat)
+    e = kernels.multiply(kernels.conjugate(q_ref), q_hat)
     e = e if e[0] >= 0.0 else -e  # the shorter of the two turns
     half_sin = float(np.linalg.norm(e[1:]))
     return e[1:] * (2.0 * np.arctan2(half_sin, e[0]) / half_sin) if half_sin > 1e-12 else 2.0 * e[1:]
