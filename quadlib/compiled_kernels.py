@@ -115,6 +115,15 @@ def product(A, B):
 
 
 @njit(cache=True)
+def add_outer(A, w, a, b):
+    """``A += w aᵀb`` in place, each term ``w (aᵢ bⱼ)`` as ``w * np.outer(a, b)`` gives it, without the
+    two temporary arrays (a UKF sums one per sigma point)."""
+    for i in range(a.shape[0]):
+        for j in range(b.shape[0]):
+            A[i, j] += w * (a[i] * b[j])
+
+
+@njit(cache=True)
 def inverse(S):
     """``S⁻¹`` of a small invertible matrix (Gauss–Jordan elimination with partial pivoting)."""
     n = S.shape[0]

@@ -36,6 +36,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.compiled_kernels import (
+    add_outer,
     body_vector_jacobian,
     called_from_python,
     dcm,
@@ -265,7 +266,7 @@ def error_state_ukf_pass(t, gyro, accel_z, accel_context, no_airspeed_z, no_airs
             SI = np.linalg.inv(S)
             Pxz = np.zeros((6, 3))
             for i in range(sigmas.shape[0]):
-                Pxz += Wc[i] * np.outer(sigmas[i], d[i])
+                add_outer(Pxz, Wc[i], sigmas[i], d[i])
             K = Pxz @ SI
             y = z - z_mean
             nis_k = (y @ SI) @ y

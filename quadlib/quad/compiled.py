@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.compiled_kernels import (
+    add_outer,
     called_from_python,
     diverged,
     euler_dcm,
@@ -193,7 +194,7 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
             P_sum = np.zeros((7, 7))
             for i in range(m):
                 d = _residual_x(stepped[i], x)
-                P_sum += Wc[i] * np.outer(d, d)
+                add_outer(P_sum, Wc[i], d, d)
             P = P_sum + Q
             healthy = healthy and upper_cholesky(scale * P)[1]  # filterpy draws the next points from it
         while healthy and e < event_step.shape[0] and event_step[e] == k:
@@ -217,13 +218,13 @@ def quad3d_ukf_pass(t, u, event_step, event_sensor, event_sample, gps_z, mag_z, 
                     d_z[i, 0] = wrap(sigmas[i, YAW] - z_mean[0])
                 S = np.zeros((1, 1))
                 for i in range(m):
-                    S += Wc[i] * np.outer(d_z[i], d_z[i])
+                    add_outer(S, Wc[i], d_z[i], d_z[i])
                 S = S + R_mag
                 y = np.array([wrap(mag_z[j, 0] - z_mean[0])])
             SI = np.linalg.inv(S)
             Pxz = np.zeros((7, y.shape[0]))
             for i in range(m):
-                Pxz += Wc[i] * np.outer(_residual_x(sigmas[i], x), d_z[i])
+                add_outer(Pxz, Wc[i], _residual_x(sigmas[i], x), d_z[i])
             K = Pxz @ SI
             x = x + K @ y
             P = positive_definite(P - K @ (S @ K.T))
