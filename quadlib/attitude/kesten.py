@@ -373,7 +373,7 @@ def _compiled_run(filt: KestenFilter, ekf: ModelEKF, log: ImuLog, measurements: 
     gyro, held = held_inputs(ekf.model, log.gyro, n)
     kind = _KINDS[filt.name]
     refs = (noise.accel_n, noise.field_n) if kind in (QKF, QF) else (np.zeros(3), np.zeros(3))
-    sensors = [(np.ascontiguousarray(m.z), ~m.missing, m.sensor.R) for m in measurements]
+    sensors = [(m.z, ~m.missing, m.sensor.R) for m in measurements]
     if len(sensors) == 1:  # a second sensor that never reports
         sensors.append((np.zeros((n, 1)), np.zeros(n, bool), np.eye(1)))
     (z0, present0, R0), (z1, present1, R1) = sensors

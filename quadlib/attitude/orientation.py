@@ -397,9 +397,9 @@ def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list, params: Orient
         return 0.0 if p is None else gate_threshold(dim, p)
 
     xs, Ps, *traces, nis, used, rejected = mekf_pass(
-        log.t, gyro, np.ascontiguousarray(gravity.z), nan3[:, 0] if heading is None else heading.z[:, 0].copy(),
-        nan3 if heading is None else np.ascontiguousarray(heading.context),
-        nan3 if zero_rate is None else np.ascontiguousarray(zero_rate.z), ekf.nominal, ekf.P, ekf.dt,
+        log.t, gyro, gravity.z, nan3[:, 0] if heading is None else heading.z[:, 0],
+        nan3 if heading is None else heading.context,
+        nan3 if zero_rate is None else zero_rate.z, ekf.nominal, ekf.P, ekf.dt,
         params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gravity_sigma_m_s2**2,
         params.heading_sigma_rad**2, params.gyro_sigma_rad_s**2, gate(3) if gravity.sensor.gated else 0.0,
         gate(1), gate(3), params.gyro_range_rad_s or 0.0,

@@ -216,7 +216,8 @@ def ins_pass(t, u, event_step, event_sensor, event_sample, x0, P0, dt0, sg, sa, 
             if abs(dt - q_dt) > 1e-9 * dt:
                 q_dt, Q = dt, _process_noise(sg, sa, sbg, sba, dt)
             F = _error_jacobian(x, u[k - 1], dt)
-            x = _settled(_step(x, u[k - 1], dt, gravity_n), np.zeros(15))
+            x = _step(x, u[k - 1], dt, gravity_n)
+            x[:4] = normalize(x[:4])
             P = product(product(F, P), F.T) + Q
         while e < event_step.shape[0] and event_step[e] == k:
             if diverged(x, P):  # the caller hands the log to run_filter, which names the step

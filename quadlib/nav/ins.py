@@ -427,12 +427,12 @@ def _compiled_run(ekf: ModelEKF, t: np.ndarray, u: np.ndarray, measurements: lis
         gps_group[list(rows)] = g
     absent = Measurements(ins_baro_sensor(1.0), np.zeros(0), np.zeros((0, 1)))  # a sensor the log lacks
     baro, heading = (absent if m is None else m for m in (baro, heading))
-    heading_context = np.zeros((0, 3)) if heading.context is None else np.ascontiguousarray(heading.context)
+    heading_context = np.zeros((0, 3)) if heading.context is None else heading.context
     xs, Ps, *traces = compiled.ins_pass(
         t, u, steps, np.array([kind[m.sensor.name] for m in measurements])[sensors], samples, ekf.nominal, ekf.P,
-        ekf.dt, *params.noise(decimate), GRAVITY_N, gps.t, np.ascontiguousarray(gps.z), gps_index, gps_group,
-        gates(gps.sensor), gps.sensor.R, gps.sensor.reset_after_s or 0.0, np.ascontiguousarray(baro.z),
-        gates(baro.sensor)[0], baro.sensor.R, np.ascontiguousarray(heading.z), heading_context,
+        ekf.dt, *params.noise(decimate), GRAVITY_N, gps.t, gps.z, gps_index, gps_group,
+        gates(gps.sensor), gps.sensor.R, gps.sensor.reset_after_s or 0.0, baro.z,
+        gates(baro.sensor)[0], baro.sensor.R, heading.z, heading_context,
         gates(heading.sensor)[0], heading.sensor.R, corrected_mask(15, heading.sensor.uncorrected),
         params.heading_tilt_aware)
     if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
