@@ -56,9 +56,10 @@ class OrientationParams:
         Accelerometer σ for the gravity update [m/s²]: sensor noise plus the motion's own
         accelerations, which the update treats as noise. With the low-passed accelerometer
         (``accel_tau_s``) it sets how fast gravity pulls the tilt. 0.5 m/s² and ``accel_tau_s``
-        1.5 s were chosen together on the six BROAD trials by leave-one-trial-out: on a grid of
-        σ 0.3–1.0 m/s² and τ 1–3 s, the pair with the lowest mean inclination error on five trials,
-        for each held-out sixth, was this one in all six folds.
+        1.5 s were chosen together on six BROAD trials (02, 07, 10, 15, 24, 32) by
+        leave-one-trial-out: on a grid of σ 0.3–1.0 m/s² and τ 1–3 s, the pair with the lowest mean
+        inclination error on five trials, for each held-out sixth, was this one in all six folds.
+        Trials 09, 16, 30 and 34 were not seen in that choice.
     heading_sigma_rad : float
         σ of one magnetometer heading [rad].
     initial_bias_sigma_rad_s : float

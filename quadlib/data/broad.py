@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from quadlib.data.paths import DataCorruptError, data_path
+from quadlib.data.paths import PROJECT_ROOT, DataCorruptError, data_path
 from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
 from quadlib.imu import ImuLog
 from quadlib.validation import as_count
@@ -75,9 +75,13 @@ class BroadTrial(NamedTuple):
 
 
 def broad_trial_names() -> list[str]:
-    """Names of the BROAD trials whose files are available, from ``broad/trials.json``."""
-    folder = data_path("broad/trials.json").parent
-    return sorted(p.stem for p in folder.glob("*.hdf5"))
+    """Names of the BROAD trials the project ships in its own ``data/broad/``, sorted.
+
+    These are the trials the chapters and benchmarks score. The list is the project's, not the
+    machine's: trials in ``QUADLIB_DATA`` or ``../shared/data`` can be loaded by name but are not
+    listed, so that a table computed over the list does not depend on what else is installed.
+    """
+    return sorted(p.stem for p in (PROJECT_ROOT / "data" / "broad").glob("*.hdf5"))
 
 
 def load_broad_trial(trial: str | os.PathLike) -> BroadTrial:

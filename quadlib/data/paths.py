@@ -3,8 +3,11 @@
 The files are looked up in, in order:
 
 1. the folder named by the environment variable ``QUADLIB_DATA`` (it must exist);
-2. ``../shared/data`` next to the project folder (the development and CI layout);
-3. ``data/`` inside the project folder.
+2. ``data/`` inside the project folder, which ships every file the chapters and tests read;
+3. ``../shared/data`` next to the project folder (the development layout), for files not shipped.
+
+The project's own ``data/`` comes before ``../shared/data``, so that what the chapters and tests
+compute does not depend on whether that folder exists.
 
 A name must stay inside those folders (no ``..``). A file that is not there gives a
 :class:`DataNotFoundError`; one that is there but damaged — empty, truncated, not the format its
@@ -27,6 +30,7 @@ SOURCES = {
              "(Laidig et al., Data 2021, 6(7):72; CC BY 4.0)",
     "px4/01_07_59.px4log": "https://github.com/dronecrew/px4tools, folder test/log/ (BSD-3-Clause)",
     "px4/sample.ulg": "https://github.com/PX4/pyulog, folder test/ (BSD-3-Clause)",
+    "px4/sample_px4_events.ulg": "https://github.com/PX4/pyulog, folder test/ (BSD-3-Clause)",
 }
 
 KNOWN_FILES = {  # size in bytes and SHA-256 of the published files
@@ -34,18 +38,28 @@ KNOWN_FILES = {  # size in bytes and SHA-256 of the published files
         3926925, "33ed3432ece89cfbd8c5c069a176106a05dad019302759353244c71d70d7e5f5"),
     "broad/07_undisturbed_fast_rotation_B.hdf5": (
         4080123, "bff6444d38b836482040a328d6060741816ed0150cf2640db94550c6a796b3d8"),
+    "broad/09_undisturbed_fast_rotation_with_breaks_B.hdf5": (
+        4075108, "40a6e3e69805ba056a53362ca17e75199cc8873aa167b8cf783bb9f71d133f55"),
     "broad/10_undisturbed_slow_translation_A.hdf5": (
         3818653, "bbe80427429f27d0adfffa6720d0b1371a42138290999d1992066e1b9c64ef30"),
     "broad/15_undisturbed_fast_translation_A.hdf5": (
         3890420, "77112d2218c27331ca41eb615450ad9cd67e8385cb0e46e5eda5b5a6d0dd2daf"),
+    "broad/16_undisturbed_fast_translation_B.hdf5": (
+        3994996, "eebc009755c4fc53c49369a19bae942cf093342a13a51a1ca0eeb23b2cc74abc"),
     "broad/24_disturbed_tapping_A.hdf5": (
         4179383, "6ede0072e95814b561e2c86f8f10fe9f6c79a68a0880d4ca32578fd646ae3bfd"),
+    "broad/30_disturbed_stationary_magnet_C.hdf5": (
+        3962196, "a4e14a8671c7d0a38c4d41c1883ea2ea471937dfe61ad1bdbee042cea3040808"),
     "broad/32_disturbed_attached_magnet_1cm.hdf5": (
         3335265, "7520dbf2c9844cff6f80e0b7ef1ed93afec08964042ee3d2ee055144379af363"),
+    "broad/34_disturbed_attached_magnet_3cm.hdf5": (
+        3379630, "f1cc33cf184d06cdbaef3e21ee2bb7ad36d7b1e3ed1098434c22e2c6a3f17f91"),
     "px4/01_07_59.px4log": (
         2913286, "15dc438491dccf1bfe85e8e2a9c38673a2232aa58c277cb2442183d154037c34"),
     "px4/sample.ulg": (
         4053364, "81952e6059bc095717e7911c010e07f85749d6b04d332a5ffc51575a3fd0a558"),
+    "px4/sample_px4_events.ulg": (
+        1563146, "4b43a23a7b7f649004facba5c7835d800bbc8cc13e71cbc96678d971451e3d7e"),
 }
 
 _SIGNATURES = {".hdf5": b"\x89HDF\r\n\x1a\n", ".ulg": b"ULog", ".px4log": b"\xa3\x95"}
@@ -69,7 +83,7 @@ def search_dirs() -> list[Path]:
             raise DataNotFoundError(f"QUADLIB_DATA: expected a folder holding broad/ and px4/, got {env!r}, "
                                     "which does not exist; fix or unset it")
         dirs.append(Path(env))
-    dirs += [PROJECT_ROOT.parent / "shared" / "data", PROJECT_ROOT / "data"]
+    dirs += [PROJECT_ROOT / "data", PROJECT_ROOT.parent / "shared" / "data"]
     return dirs
 
 

@@ -18,9 +18,10 @@ from quadlib.imu import ImuLog
 TRIAL = load_broad_trial("02_undisturbed_slow_rotation_B")
 
 
-def test_the_six_trials_are_shipped_and_load():
+def test_the_ten_trials_are_shipped_and_load():
     names = broad_trial_names()
-    assert len(names) == 6 and "32_disturbed_attached_magnet_1cm" in names
+    assert len(names) == 10 and {"09_undisturbed_fast_rotation_with_breaks_B", "34_disturbed_attached_magnet_3cm",
+                                 "32_disturbed_attached_magnet_1cm"} <= set(names)
     assert TRIAL.log.t.size == TRIAL.q_nb.shape[0] == TRIAL.movement.size == 53240
     assert 1 / np.median(TRIAL.log.dt) == pytest.approx(285.714, abs=1e-3)
     assert "undisturbed" in TRIAL.info["groups"]
