@@ -135,6 +135,15 @@ def _information(lever, normals, residuals) -> np.ndarray:
     return J.T @ J / sigma2
 
 
+def _rotation_angle(R: np.ndarray) -> float:
+    """The angle of a 2D or 3D rotation matrix [rad], accurate near zero: ``atan2(sin, cos)`` with
+    ``sin = ‖R − Rᵀ‖_F / (2√2)`` and ``cos = (trace R − (d − 2)) / 2``. (``arccos`` of the cosine alone
+    loses every angle below about 1e-8 rad to rounding, so a tolerance smaller than that could be met
+    or missed by the last bit of the trace.)"""
+    d = R.shape[0]
+    return float(np.arctan2(np.linalg.norm(R - R.T) / (2.0 * np.sqrt(2.0)), (np.trace(R) - (d - 2)) / 2.0))
+
+
 def icp(source, target, *, method: str = "point", initial=None, max_iterations: int = 50, tolerance: float = 1e-10,
         trim: float = 0.0, target_normals=None) -> IcpResult:
     """Align ``source`` (N, d) to ``target`` (M, d): ``target ≈ R source + t``.
@@ -195,7 +204,7 @@ def icp(source, target, *, method: str = "point", initial=None, max_iterations: 
         else:
             dR, dt = point_to_plane_step(moved[keep], tgt[idx[keep]], normals[idx[keep]])
         R, t = dR @ R, dR @ t + dt
-        change = float(np.arccos(np.clip((np.trace(dR) - (d - 2)) / 2.0, -1.0, 1.0))) + float(np.linalg.norm(dt))
+        change = _rotation_angle(dR) + float(np.linalg.norm(dt))
         if change < tolerance:
             converged = True
             break

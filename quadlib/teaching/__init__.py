@@ -5,7 +5,7 @@ from quadlib.progress import progress
 
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
-from .display import show_source, span
+from .display import rounding, show_source, span
 from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import plot_consistency, plot_estimate, plot_innovations
@@ -53,6 +53,7 @@ __all__ = [
     "progress",
     "quad2d_geometry",
     "recursive_mean",
+    "rounding",
     "show_source",
     "span",
     "student_edition",

@@ -9,7 +9,7 @@ import numpy as np
 
 from quadlib.validation import as_finite_array
 
-__all__ = ["show_source", "span"]
+__all__ = ["rounding", "show_source", "span"]
 
 
 def show_source(obj):
@@ -44,3 +44,21 @@ def span(values, spec: str = ".1f") -> str:
     except ValueError as err:
         raise ValueError(f"spec: expected a float format specification such as '.1f', got {spec!r}") from err
     return low if low == high else f"{low}–{high}"
+
+
+def rounding(value, bound: float = 1e-12) -> str:
+    """A difference that should be rounding, as prose: ``"< 1e-12"`` when ``|value| < bound``, else
+    the value itself (``"3.4e-07"``), which then stands out.
+
+    The last digits of a floating-point difference change from one CPU to the next (vector units,
+    summation order), so a chapter that printed ``4.4e-16`` would print ``6.7e-16`` elsewhere. The
+    comparison still fails visibly: a difference above ``bound`` prints as a number.
+    """
+    arr = as_finite_array("value", value)
+    if arr.size != 1:
+        raise ValueError(f"value: expected one number, got an array of shape {arr.shape}")
+    bound = float(as_finite_array("bound", bound))
+    if not bound > 0.0:
+        raise ValueError(f"bound: expected a positive number, got {bound!r}")
+    magnitude = abs(float(arr.reshape(())))
+    return f"< {bound:.0e}" if magnitude < bound else f"{magnitude:.1e}"
