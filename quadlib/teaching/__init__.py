@@ -5,10 +5,11 @@ from quadlib.progress import progress
 
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
+from .cart import cart_model, cart_position_sensor, cart_speed_sensor
 from .display import rounding, show_source, span
 from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
-from .plotting import plot_consistency, plot_estimate, plot_innovations
+from .plotting import covariance_ellipse, plot_consistency, plot_covariance_ellipse, plot_estimate, plot_innovations
 from .tuning import (
                      ComplementaryTrial,
                      GateTrial,
@@ -31,7 +32,11 @@ __all__ = [
     "animate_quad2d",
     "animation_html",
     "batch_mean",
+    "cart_model",
+    "cart_position_sensor",
+    "cart_speed_sensor",
     "complementary_trial",
+    "covariance_ellipse",
     "gate_trial",
     "kf_tuning_trial",
     "plot_trial",
@@ -48,6 +53,7 @@ __all__ = [
     "mutation_run",
     "try_answers",
     "plot_consistency",
+    "plot_covariance_ellipse",
     "plot_estimate",
     "plot_innovations",
     "progress",

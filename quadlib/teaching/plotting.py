@@ -1,4 +1,5 @@
-"""Standard figures: estimate vs truth with ±kσ bands, innovations, NEES/NIS vs χ² bounds.
+"""Standard figures: estimate vs truth with ±kσ bands, innovations, NEES/NIS vs χ² bounds, and the
+ellipse of a two-dimensional Gaussian.
 
 Every function draws on the ``ax`` it is given (or on a new figure when
 ``ax`` is None) and returns the axes; nothing touches pyplot's current-figure
@@ -11,9 +12,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from quadlib.analysis.metrics import chi2_interval
-from quadlib.validation import as_float_array, as_positive, as_times
+from quadlib.validation import as_count, as_finite_array, as_float_array, as_positive, as_times
 
-__all__ = ["plot_consistency", "plot_estimate", "plot_innovations"]
+__all__ = ["covariance_ellipse", "plot_consistency", "plot_covariance_ellipse", "plot_estimate", "plot_innovations"]
 
 
 def _series(t, **named):
@@ -95,4 +96,50 @@ def plot_consistency(t, values, dof: int, *, n_runs: int = 1, probability: float
     ax.set_xlabel("t [s]")
     ax.set_ylabel(name)
     ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def covariance_ellipse(mean, cov, k: float = 2.0, points: int = 101) -> np.ndarray:
+    """The boundary of the k-sigma ellipse of a 2D Gaussian, (points, 2).
+
+    The points :math:`x` with :math:`(x - \\mu)^\\top P^{-1} (x - \\mu) = k^2`: the unit circle
+    stretched by the square roots of the eigenvalues of ``cov`` along its eigenvectors,
+    :math:`x = \\mu + k\\,V \\Lambda^{1/2} [\\cos t, \\sin t]^\\top`.
+
+    Parameters
+    ----------
+    mean : (2,) centre
+    cov : (2, 2) symmetric positive semi-definite covariance
+    k : float
+        Half-axes in standard deviations (k = 2 holds about 86 % of the probability in 2D).
+    points : int
+        Number of points on the closed boundary (the last repeats the first; with the default 101
+        the ends of both axes are among them).
+    """
+    mu = as_finite_array("mean", mean)
+    P = as_finite_array("cov", cov)
+    if mu.shape != (2,):
+        raise ValueError(f"mean: expected shape (2,), got {mu.shape}")
+    if P.shape != (2, 2) or not np.allclose(P, P.T, rtol=1e-9, atol=1e-12):
+        raise ValueError(f"cov: expected a symmetric (2, 2) matrix, got {P.tolist() if P.size <= 4 else P.shape}")
+    values, vectors = np.linalg.eigh(P)
+    if values.min() < -1e-12 * max(1.0, abs(values.max())):
+        raise ValueError(f"cov: expected a positive semi-definite matrix, got eigenvalues {values.tolist()}")
+    k, n = as_positive("k", k), as_count("points", points)
+    if n < 3:
+        raise ValueError(f"points: expected at least 3, got {n}")
+    angle = np.linspace(0.0, 2.0 * np.pi, n)
+    circle = np.vstack([np.cos(angle), np.sin(angle)])
+    return (mu[:, None] + k * vectors @ (np.sqrt(np.clip(values, 0.0, None))[:, None] * circle)).T
+
+
+def plot_covariance_ellipse(mean, cov, *, k: float = 2.0, ax=None, label: str | None = None, **style):
+    """Draw the k-sigma ellipse of a 2D Gaussian (:func:`covariance_ellipse`) and its centre on ``ax``.
+
+    ``style`` goes to matplotlib's ``plot`` (``color``, ``lw``, ``ls`` …). Returns the axes.
+    """
+    boundary = covariance_ellipse(mean, cov, k)
+    ax = _axes(ax, figsize=(4, 4))
+    line, = ax.plot(boundary[:, 0], boundary[:, 1], label=label, **style)
+    ax.plot(*np.asarray(mean, dtype=float), "+", color=line.get_color())
     return ax
