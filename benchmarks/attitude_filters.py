@@ -5,7 +5,7 @@ computing with the compiled filters). Prints the mean squared attitude error for
 periods ``τ_m = k τ_a``, k = 1…5, with the thesis's process noise (τ σ²_ω) and with the corrected
 one ((σ_ω τ)², erratum E15), the largest quaternion norm error, and each filter's cost per step,
 measured in the same run. Writes the errors to ``benchmarks/results/attitude_filters.csv`` (a test
-recomputes one entry). Chapter 10 computes the same tables itself, from the same seeds.
+recomputes one entry). Chapter 13 computes the same tables itself, from the same seeds.
 """
 
 from __future__ import annotations

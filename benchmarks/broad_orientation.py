@@ -6,7 +6,7 @@ the stored results and keep the others). Prints, per trial and as the mean
 over the trials, BROAD's total / heading / inclination RMSE [deg] (Laidig et al. 2021;
 :func:`quadlib.analysis.broad_errors`) and the cost per sample [µs] of each estimator, all with
 default parameters (no per-trial tuning), and writes them to ``benchmarks/results/
-broad_orientation.csv``, the table chapter 13 shows.
+broad_orientation.csv``, the table chapter 16 shows.
 
 The estimators and their frame conversions are :mod:`quadlib.analysis.orientation_table`'s. The
 check that the frames are right: VQF reproduces its published means on these trials (2.74° /
@@ -29,7 +29,7 @@ from quadlib.data import broad_trial_names, load_broad_trial
 RESULTS = Path(__file__).resolve().parent / "results" / "broad_orientation.csv"
 SERIES = RESULTS.with_name("broad_error_series.csv")
 COLUMNS = ("total_deg", "heading_deg", "inclination_deg", "us_per_sample")
-SERIES_HZ = 2.0  # the error series chapter 13 plots: these trials and estimators, two samples a second
+SERIES_HZ = 2.0  # the error series chapter 16 plots: these trials and estimators, two samples a second
 SERIES_TRIALS = ("02_undisturbed_slow_rotation_B", "24_disturbed_tapping_A", "32_disturbed_attached_magnet_1cm")
 SERIES_ESTIMATORS = ("quadlib MEKF", "quadlib MEKF smoother", "Kesten TQF", "Kesten QKF", "Salmony EKF", "VQF",
                      "offline VQF", "ahrs Madgwick")

@@ -1,7 +1,7 @@
-"""Chapter 12's estimators on 20 simulated fixed-wing flights: accuracy, bias and cost.
+"""Chapter 15's estimators on 20 simulated fixed-wing flights: accuracy, bias and cost.
 
 Usage: ``python benchmarks/fixedwing_filters.py`` (about 20 s; the multiplicative EKF has no
-compiled twin). Chapter 12 prints the same table for the EKF, the error-state UKF and the
+compiled twin). Chapter 15 prints the same table for the EKF, the error-state UKF and the
 complementary filter; this one adds the multiplicative EKF and the seconds each takes per flight.
 """
 

@@ -1,5 +1,5 @@
-"""Batched against per-run Monte Carlo: the linear KF (chapter 5's 1D quadrotor) and the EKF and
-UKF (chapter 6's 2D quadrotor near a wall).
+"""Batched against per-run Monte Carlo: the linear KF (chapter 8's 1D quadrotor) and the EKF and
+UKF (chapter 9's 2D quadrotor near a wall).
 
 Usage: ``python benchmarks/montecarlo_batch.py``. N flights on a 50 Hz (1D) or 20 Hz (2D) grid, a
 10 Hz range sensor with dropouts and outliers, a χ² gate. Two tables, best of three, ratios

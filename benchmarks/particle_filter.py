@@ -3,7 +3,7 @@ well, and at what cost, against the number of particles, the resampling scheme a
 the scan likelihood.
 
 Usage: ``python benchmarks/particle_filter.py [runs]`` (100 runs per row by default, a few
-minutes); writes ``benchmarks/results/particle_filter.csv`` (shown in chapter 17; the share found
+minutes); writes ``benchmarks/results/particle_filter.csv`` (shown in chapter 20; the share found
 and the error are reproducible, the milliseconds are this machine's). Each row is
 :func:`quadlib.perception.corner_trials`: every run simulates the drive of ``corner_start`` with its
 own seed and starts the filter from the four corner hypotheses. "Found" means the final mean pose

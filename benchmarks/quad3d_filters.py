@@ -1,6 +1,6 @@
-"""Chapter 8's EKF and UKF on the same 20 simulated flights: accuracy, consistency and cost.
+"""Chapter 11's EKF and UKF on the same 20 simulated flights: accuracy, consistency and cost.
 
-Usage: ``python benchmarks/quad3d_filters.py`` (about a minute). Chapter 8 prints the same table
+Usage: ``python benchmarks/quad3d_filters.py`` (about a minute). Chapter 11 prints the same table
 from the compiled filters; this script runs each filter both compiled and readable (``run_filter``)
 and prints the seconds per flight with their ratios to the compiled EKF, measured in the same run.
 """
@@ -21,7 +21,7 @@ def main(n_flights: int = 20, seed: int = 8) -> None:
     rng = np.random.default_rng(seed)
     flight, noise, decimate = square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), 10
     dt = decimate * flight.dt
-    tuning = Quad3DTuning()  # chapter 8's
+    tuning = Quad3DTuning()  # chapter 11's
     P0 = tuning.P0
     factories = {"EKF": (quad3d_ekf, True), "EKF, run_filter": (quad3d_ekf, False),
                  "UKF": (quad3d_ukf, True), "UKF, run_filter": (quad3d_ukf, False)}

@@ -1,6 +1,6 @@
 """Textbook filters in plain numpy, line by line after Tellex et al. Algorithms 2 and 3.
 
-These functions are for reading and for checking. Chapters 03–04 show them next to the printed
+These functions are for reading and for checking. Chapters 06–07 show them next to the printed
 pseudocode, and the tests prove that quadlib's filterpy wrappers give the same numbers. For real
 work use :class:`~quadlib.filters.ModelEKF` and :class:`~quadlib.filters.ModelUKF`, which add
 input checks, gating, angle residuals and multi-rate replay.

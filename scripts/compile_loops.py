@@ -46,7 +46,7 @@ def main() -> None:
         estimate_fixedwing_attitude(fw_log, noise, factory)
     fly(altitude_step(), 0.1)  # the closed loop's vehicle
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
-    for factory in (quad3d_ekf, quad3d_ukf):  # chapter 8's filters
+    for factory in (quad3d_ekf, quad3d_ukf):  # chapter 11's filters
         estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)
     px4 = load_px4_log()
     for tilt_aware in (False, True):  # the inertial navigation filter, forward and smoothed

@@ -1,4 +1,4 @@
-"""The stored BROAD table (benchmarks/results/broad_orientation.csv, shown in chapter 13) is what the
+"""The stored BROAD table (benchmarks/results/broad_orientation.csv, shown in chapter 16) is what the
 code computes: the rows of the fast estimators are recomputed here from the trials."""
 
 import csv
@@ -37,7 +37,7 @@ PARTICLES = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "pa
 
 
 def test_the_particle_filter_table_is_reproduced_for_its_cheapest_row():
-    """Chapter 17 shows benchmarks/results/particle_filter.csv; its first row (50 particles) is
+    """Chapter 20 shows benchmarks/results/particle_filter.csv; its first row (50 particles) is
     recomputed here: the share of runs that found the pose and their median error."""
     with PARTICLES.open(newline="") as f:
         row = next(csv.DictReader(f))
@@ -51,7 +51,7 @@ ATTITUDE = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "att
 
 
 def test_the_fig_5_2_table_is_reproduced_for_its_cheapest_filter():
-    """benchmarks/results/attitude_filters.csv (two minutes of tumbling per entry, the tables chapter 10
+    """benchmarks/results/attitude_filters.csv (two minutes of tumbling per entry, the tables chapter 13
     computes): the TQKF's entry at k = 1 with the thesis's noise is recomputed here."""
     import importlib.util
 

@@ -1,5 +1,5 @@
 """Chapters run from anywhere: `make book` executes copies in book/chapters/, so a path relative to
-notebooks/ would miss its file there (chapter 13 once read ../benchmarks/results that way)."""
+notebooks/ would miss its file there (chapter 16 once read ../benchmarks/results that way)."""
 
 import json
 import re

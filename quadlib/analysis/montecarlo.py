@@ -2,9 +2,9 @@
 
 * :func:`propagate_samples` and :func:`importance_posterior` give the exact moments of a Gaussian
   through a nonlinear function and after one update, up to sampling noise — the yardstick for
-  the EKF's linearisation and the UKF's unscented transform (chapters 03–04).
+  the EKF's linearisation and the UKF's unscented transform (chapters 06–07).
 * :func:`run_monte_carlo` runs several filters on the same simulated flights and collects
-  errors, σ, NEES and NIS for consistency tables (chapters 05–06); a linear Kalman filter runs over
+  errors, σ, NEES and NIS for consistency tables (chapters 08–09); a linear Kalman filter runs over
   all flights at once (:mod:`~quadlib.analysis.batched`).
 """
 

@@ -1,5 +1,5 @@
 """Every orientation estimator on one real IMU log, in NED and BROAD's metric: the table of
-chapter 13 and ``benchmarks/broad_orientation.py``.
+chapter 16 and ``benchmarks/broad_orientation.py``.
 
 quadlib's estimators were written for other sensors; each gets only what a user would give it on a
 new log — the Earth's field as the log's first second at rest shows it (:func:`field_at_rest`) and

@@ -95,7 +95,7 @@ def pressure_from_altitude(altitude_m) -> np.ndarray:
 
 def altitude_from_pressure(pressure_hpa) -> np.ndarray:
     """Eq. (4.15): altitude [m] at ``pressure_hpa``. Its rounded constants (44330 m, 0.19) invert
-    eq. (4.14) to within a few metres over the first kilometre, not exactly (chapter 11)."""
+    eq. (4.14) to within a few metres over the first kilometre, not exactly (chapter 14)."""
     p = as_finite_array("pressure_hpa", pressure_hpa)
     if np.any(p <= 0):
         raise ValueError(f"pressure_hpa: expected positive pressures, got a minimum of {p.min()}")

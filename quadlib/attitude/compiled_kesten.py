@@ -1,7 +1,7 @@
 """Kesten's five attitude filters, compiled: what :func:`~quadlib.replay.run_filter` does with each
 :class:`~quadlib.attitude.kesten.KestenFilter` on :class:`~quadlib.ModelEKF`, at C speed.
 
-The readable filters are the models and sensors of :mod:`quadlib.attitude.kesten`, which chapter 10
+The readable filters are the models and sensors of :mod:`quadlib.attitude.kesten`, which chapter 13
 builds; run by ``run_filter`` they cost 50–130 µs a sample, nearly all of it the overhead of small
 numpy arrays. The same steps are written here once more as one loop that numba compiles, with a
 branch per filter where they differ; :mod:`tests.attitude.test_compiled_kesten` checks each against

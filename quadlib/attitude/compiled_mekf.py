@@ -2,7 +2,7 @@
 
 :func:`~quadlib.attitude.orientation.orientation_run` with ``compiled=False`` is the readable
 filter — :class:`~quadlib.ModelEKF` on the attitude-and-bias model, its three sensors, driven by
-``run_filter`` — and chapter 13 shows it. It costs about 300 µs a sample in each pass, and a
+``run_filter`` — and chapter 16 shows it. It costs about 300 µs a sample in each pass, and a
 Python loop written for this one filter still costs about 110 µs (small numpy arrays: each
 operation costs a microsecond whatever its size). So the same steps are written here once more,
 as plain loops over floats that numba compiles; :mod:`tests.attitude.test_compiled_mekf`

@@ -17,7 +17,7 @@ They differ in the prediction ``φ̄_k``:
 Differs from the source: printed eqs. (46)–(47) add ``T_s z_θ`` to the predicted angle, which
 already contains the gyro step, and write the accelerometer angle in its place; here the
 predicted angle is used as is. The blog weights the *accelerometer* with α ≈ 0.95, which makes
-``τ = T_s (1 − α)/α`` a small fraction of a sample: almost accelerometer-only (chapter 7).
+``τ = T_s (1 − α)/α`` a small fraction of a sample: almost accelerometer-only (chapter 10).
 
 Inputs: ``gyro`` and ``accel`` are ``(N, 3)`` samples at a uniform period ``dt``; ``gyro[k]``
 is the rate over ``[t_k, t_{k+1}]``. The first estimate is ``initial`` (roll, pitch) when given,

@@ -25,7 +25,7 @@ TQF and QF are Kalman filters in disguise: a scalar variance ``p`` per correctio
 covariance stays ``p I₃`` (``G = I``, ``H = I``, ``R = r I``), so both run on :class:`ModelEKF`
 with an error-state model — QF with one 3-D error block per sensor.
 
-Differs from the source, each time for a reason given in the errata (chapter 10):
+Differs from the source, each time for a reason given in the errata (chapter 13):
 
 * process noise ``(σ_ω Δt)²`` per axis (E15), measurement variances ``σ²`` (E16);
 * TQKF and QKF: the measured quaternion's sign is matched to the state's before subtracting,

@@ -5,8 +5,8 @@ Every control period (Kesten's 4 ms, eq. 4.5) the loop samples the IMU from the 
 magnetometer every 20 ms, the barometer every 40 ms, eqs. 4.13 and 4.17; the noise of
 :class:`~quadlib.attitude.AttitudeNoise`), lets the estimators take those samples, asks the
 controllers for motor thrusts on the estimate, and integrates the rigid body over the period.
-The estimators are the attitude-and-gyro-bias EKF of chapters 12–13 (gyro, gravity, heading) and
-Kesten's altitude filter (chapter 11), each a :class:`~quadlib.ModelFilter` stepped sample by sample.
+The estimators are the attitude-and-gyro-bias EKF of chapters 15–16 (gyro, gravity, heading) and
+Kesten's altitude filter (chapter 14), each a :class:`~quadlib.ModelFilter` stepped sample by sample.
 With ``estimator="truth"`` the controllers see the true state: perfect estimation, the baseline;
 ``"altitude"`` puts only the altitude filter in the loop.
 """
@@ -121,12 +121,12 @@ class LoopSensors:
     gravity_sigma_m_s2 : float
         The attitude filter's trust in the accelerometer as a gravity sensor. A multirotor's
         accelerometer reads the thrust's direction, body z, whatever the tilt: it shows gravity only
-        while the vehicle does not accelerate, so this must be far more than its noise (chapter 15
+        while the vehicle does not accelerate, so this must be far more than its noise (chapter 18
         sweeps it).
     gyro_bias_sigma_rad_s : float
         σ of the gyro bias the filter starts with: what is left after calibrating it on the ground.
     altitude_weight : float
-        Kesten's altitude filter's gravity-state weight ``w`` (chapter 11).
+        Kesten's altitude filter's gravity-state weight ``w`` (chapter 14).
     altitude_accel_sigma_m_s2 : float, optional
         The accelerometer noise the altitude filter assumes (its ``Q``); by default the true one.
         Larger trusts the barometer more: a faster, noisier estimate.
@@ -352,9 +352,9 @@ class PathRun:
 def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: str = "truth", rng=None,  # noqa: B008
              sensors: LoopSensors = LoopSensors(), gps_noise=None, ins_params=None,  # noqa: B008
              gps_period_s: float = 0.1) -> PathRun:
-    """Fly a planned path (a :class:`~quadlib.quad.flight.Flight3D`: chapter 8's square) closed loop
+    """Fly a planned path (a :class:`~quadlib.quad.flight.Flight3D`: chapter 11's square) closed loop
     with :class:`~quadlib.control.PositionController`, on the true state or on the inertial
-    navigation EKF of chapter 14 (``estimator="ins"``) stepped sample by sample: IMU every control
+    navigation EKF of chapter 17 (``estimator="ins"``) stepped sample by sample: IMU every control
     period, magnetometer and barometer on ``sensors``' periods, GPS position and velocity every
     ``gps_period_s``.
 
@@ -369,7 +369,7 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
     sensors : LoopSensors
         IMU, magnetometer and barometer noise and periods.
     gps_noise : (6,) array_like, optional
-        σ of GPS north, east, down [m] and their velocities [m/s]; default chapter 8's receiver
+        σ of GPS north, east, down [m] and their velocities [m/s]; default chapter 11's receiver
         (0.7, 0.7, 2.0, 0.1, 0.1, 0.3).
     ins_params : InsParams, optional
         Default: the sensors' noise, GPS as above, the barometer for the height.

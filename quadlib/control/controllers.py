@@ -133,7 +133,7 @@ def thrust_attitude(accel_n, yaw_rad: float, mass_kg: float) -> tuple[np.ndarray
     """The attitude and vertical thrust that give the acceleration ``accel_n`` (NED) [m/s²] facing
     ``yaw_rad``: the rotors must push along ``F = m (a − g_n)``, so body z points along ``−F``, body x
     is the heading projected across it, and the vertical thrust is ``−F_z`` [N] (the differential
-    flatness of chapter 8's flights, run backwards). Unchecked: called every control step."""
+    flatness of chapter 11's flights, run backwards). Unchecked: called every control step."""
     fx, fy, fz = (mass_kg * (accel_n - np.array([0.0, 0.0, G0]))).tolist()
     norm = math.sqrt(fx * fx + fy * fy + fz * fz)
     b3 = (-fx / norm, -fy / norm, -fz / norm)

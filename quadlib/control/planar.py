@@ -1,4 +1,4 @@
-"""Chapter 6's 2D quadrotor flown closed loop: hold a distance to the wall on the filter's estimate.
+"""Chapter 9's 2D quadrotor flown closed loop: hold a distance to the wall on the filter's estimate.
 
 The truth steps the model of :func:`~quadlib.quad.quad2d_model` with its process noise, the
 rangefinder samples it, the filter (EKF or UKF) predicts with the commanded roll and updates with

@@ -1,9 +1,9 @@
-"""Chapter 12's two fixed-wing filters, compiled: what :func:`~quadlib.replay.run_filter` does with
+"""Chapter 15's two fixed-wing filters, compiled: what :func:`~quadlib.replay.run_filter` does with
 :func:`~quadlib.fixedwing.estimate.salmony_ekf` or :func:`~quadlib.fixedwing.estimate.error_state_ukf`
 and the sensors of :func:`~quadlib.fixedwing.estimate.fixedwing_measurements`, at C speed.
 
 The readable filters are :class:`~quadlib.ModelEKF` and :class:`~quadlib.ModelUKF` driven by
-``run_filter``; chapter 12 builds the EKF in view. They cost a few hundred microseconds (the EKF)
+``run_filter``; chapter 15 builds the EKF in view. They cost a few hundred microseconds (the EKF)
 and about a millisecond (the UKF) a sample, nearly all of it the overhead of small numpy arrays,
 so the same steps are written here once more as plain loops that numba compiles (as
 :mod:`quadlib.attitude.compiled_mekf` does for the orientation MEKF).

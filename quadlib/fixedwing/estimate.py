@@ -10,7 +10,7 @@ Three filters share the sensors of :mod:`quadlib.fixedwing.model`:
 :func:`fixedwing_measurements` turns a log into the samples each sensor sees, with Salmony's
 failure handling (§8.3) as data: a sample with an airspeed goes to ``accel``, one without to
 ``accel (no airspeed)``, a NaN magnetometer row is a missing sample. :func:`estimate_fixedwing_attitude`
-does all of it in one call with chapter 12's tuning.
+does all of it in one call with chapter 15's tuning.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "esti
 
 @dataclass(frozen=True)
 class FixedWingTuning:
-    """Chapter 12's tuning of the fixed-wing filters.
+    """Chapter 15's tuning of the fixed-wing filters.
 
     Parameters
     ----------
@@ -248,7 +248,7 @@ def _compiled_run(filt: ModelEKF | ModelUKF, log: ImuLog, measurements: list[Mea
 
 
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:
-    """Chapter 7's Euler-rate complementary filter for roll and pitch (time constant ``tau_s`` [s])
+    """Chapter 10's Euler-rate complementary filter for roll and pitch (time constant ``tau_s`` [s])
     and the tilt-compensated magnetometer heading for yaw: no bias estimate, no airspeed.
     Returns roll, pitch, yaw ``(N, 3)`` [rad]. Over a magnetometer gap the last heading holds
     (before the first sample, the first one)."""

@@ -21,7 +21,7 @@ estimator), and the two sensors. The accelerometer needs
 the gyro rates and the airspeed of its own sample; they come with each sample as the sensor's
 *context*, so one sensor object serves the whole flight.
 
-Differs from the source (errata E18–E21, chapter 12 and the appendix): eq. (11) already holds
+Differs from the source (errata E18–E21, chapter 15 and the appendix): eq. (11) already holds
 the ½ that eq. (10) applies again; eq. (12)'s last row has the wrong sign on ``∂q̇₃/∂b_r``;
 eq. (14)'s second row has the wrong sign on its ``q₁q₂`` term (the printed C matrix is the
 Jacobian of the corrected row).

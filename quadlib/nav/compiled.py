@@ -3,7 +3,7 @@
 
 ``estimate_ins(..., compiled=False)`` is the readable filter — :class:`~quadlib.ModelEKF` on
 :func:`~quadlib.nav.ins.ins_model` with GPS, barometer and magnetometer heading, driven by
-``run_filter`` — and chapter 14 builds it in view. It costs 250–370 µs a step, nearly all of it
+``run_filter`` — and chapter 17 builds it in view. It costs 250–370 µs a step, nearly all of it
 the overhead of small numpy arrays, so the same steps are written here once more as plain loops
 that numba compiles. :mod:`tests.nav.test_compiled` checks that both give the same states,
 covariances and sensor traces to 1e-10, with gate rejections, resets, dropouts and the smoother.

@@ -182,7 +182,7 @@ def ins_baro_sensor(sigma_m: float) -> Sensor:
 @dataclass(frozen=True)
 class InsParams:
     """Parameters of :func:`estimate_ins`, each with its unit. The defaults suit a small multirotor
-    with a MEMS IMU and a consumer GPS receiver; chapter 14 measures them on a real flight.
+    with a MEMS IMU and a consumer GPS receiver; chapter 17 measures them on a real flight.
 
     Parameters
     ----------
@@ -205,7 +205,7 @@ class InsParams:
         The heading update's two forms (:func:`quadlib.attitude.heading_sensor`): False corrects
         the heading about the vertical and ignores that a tilt error also turns the measured
         heading; True puts that into the innovation's variance and corrects the turn about body z
-        only. Chapter 14 compares them: True is consistent on the simulated square, False agrees
+        only. Chapter 17 compares them: True is consistent on the simulated square, False agrees
         better with the autopilot on the real flight.
     gps_delay_s : float
         How long a fix is old when it is logged [s]: each fix is applied at its time minus this
@@ -336,7 +336,7 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     compiled : bool
         Run the same steps compiled (:mod:`~quadlib.nav.compiled`; equal to the readable filter to
         1e-10, tested); False runs :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.run_filter`
-        (and :func:`~quadlib.rts_smooth`), as chapter 14 builds it.
+        (and :func:`~quadlib.rts_smooth`), as chapter 17 builds it.
 
     Returns
     -------

@@ -18,7 +18,7 @@ obstacle the map lacks then lowers a particle's weight instead of zeroing it. ``
 deliberately wider than the lidar's noise: the particles are spread centimetres to decimetres
 apart, and a likelihood as sharp as the sensor would give all the weight to the one nearest the
 truth, collapsing the belief at the first update (what a too-sharp likelihood does is measured in
-chapter 17).
+chapter 20).
 
 Resampling draws from ``rng`` (filterpy's ``monte_carlo`` schemes draw from numpy's global random
 state, which would make runs depend on what else used it): systematic (one uniform draw, ``N``

@@ -1,9 +1,9 @@
-"""Chapter 8's EKF and UKF, compiled: what :func:`~quadlib.replay.run_filter` does with
+"""Chapter 11's EKF and UKF, compiled: what :func:`~quadlib.replay.run_filter` does with
 :func:`~quadlib.quad.estimate.quad3d_ekf` or :func:`~quadlib.quad.estimate.quad3d_ukf` and the GPS
 and magnetometer of :class:`~quadlib.quad.estimate.Quad3DTuning` (no gate), at C speed.
 
 The readable filters are :class:`~quadlib.ModelEKF` and :class:`~quadlib.ModelUKF` on
-:func:`~quadlib.quad.quad3d.quad3d_model`, driven by ``run_filter``; chapter 8 builds them in view.
+:func:`~quadlib.quad.quad3d.quad3d_model`, driven by ``run_filter``; chapter 11 builds them in view.
 They cost about a hundred microseconds (the EKF) and over a millisecond (the UKF) a step, nearly
 all of it the overhead of small numpy arrays, so the same steps are written here once more as
 plain loops that numba compiles (as :mod:`quadlib.fixedwing.compiled` does for the fixed-wing

@@ -1,4 +1,4 @@
-"""The 7-state 3D quadrotor EKF of chapter 8 in one call, with the chapter's tuning as documented defaults."""
+"""The 7-state 3D quadrotor EKF of chapter 11 in one call, with the chapter's tuning as documented defaults."""
 
 from __future__ import annotations
 
@@ -20,14 +20,14 @@ __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
 
 @dataclass(frozen=True)
 class Quad3DTuning:
-    """Chapter 8's tuning of the 7-state EKF ``[x, y, z, ẋ, ẏ, ż, ψ]`` for a 50 Hz filter step.
+    """Chapter 11's tuning of the 7-state EKF ``[x, y, z, ẋ, ẏ, ż, ψ]`` for a 50 Hz filter step.
 
     Parameters
     ----------
     accel_sigma_m_s2 : (3,) tuple
         Acceleration error per step, per NED axis [m/s²]. Horizontal 2 m/s²: it must cover the
         complementary filter's tilt error, which leaks gravity into the horizontal acceleration
-        for seconds (chapter 8 sweeps 0.3, 1, 2, 4 m/s²: the mean NEES falls steeply up to 2 m/s² and
+        for seconds (chapter 11 sweeps 0.3, 1, 2, 4 m/s²: the mean NEES falls steeply up to 2 m/s² and
         then levels off).
         Vertical 1.5/√10 ≈ 0.47 m/s²: the accelerometer's σ averaged over 10 IMU samples.
     yaw_rate_sigma_rad_s : float

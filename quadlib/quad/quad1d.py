@@ -70,7 +70,7 @@ def quad1d_range_sensor(sigma_m: float, rate_hz: float | None = None) -> Sensor:
 
 
 def climb_input(t) -> np.ndarray:
-    """The commanded vertical acceleration of chapters 3 and 5, ``(N, 1)`` [m/s²] at times ``t``:
+    """The commanded vertical acceleration of chapters 6 and 8, ``(N, 1)`` [m/s²] at times ``t``:
     hover for 1 s, climb (+1 m/s² for 2 s, −1 for 2 s), hold, descend (−0.5 for 2 s, +0.5 for 2 s),
     then hover."""
     return piecewise_constant(t, [1, 3, 5, 10, 12, 14], [1.0, -1.0, 0.0, -0.5, 0.5, 0.0])[:, None]

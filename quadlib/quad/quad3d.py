@@ -95,7 +95,7 @@ def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3)
     the same — PX4's EKF2 resets to GNSS after a rejection timeout, ArduPilot's EKF3 after a retry
     time of several seconds; 1 s (ten fixes) is short enough to rejoin a receiver within 2 s of a
     persistent jump or the end of an outage, and long enough that single glitches stay gated.
-    ``None`` keeps the plain gate, which can lock GPS out for good (chapter 8 shows it).
+    ``None`` keeps the plain gate, which can lock GPS out for good (chapter 11 shows it).
     """
     sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):

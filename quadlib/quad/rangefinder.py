@@ -3,7 +3,7 @@
 State ``x = [z, φ]``: height above flat ground [m] (positive up) and roll [rad]. The beam is
 fixed to the body, so when the drone rolls the beam tilts with it and hits the ground at the
 slant distance ``z / cos φ`` (the same ``1 / cos`` as the 2D quadrotor's sideways sensor,
-Tellex et al. §6, eq. 33). Chapters 03–04 use it to show where linearisation fails: at
+Tellex et al. §6, eq. 33). Chapters 06–07 use it to show where linearisation fails: at
 ``φ = 0`` the range's slope in ``φ`` is zero.
 """
 

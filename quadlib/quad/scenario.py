@@ -1,4 +1,4 @@
-"""One simulated 3D flight, ready for the filters of chapter 8: an experiment harness.
+"""One simulated 3D flight, ready for the filters of chapter 11: an experiment harness.
 
 It joins the simulator (:mod:`quadlib.quad.flight`, :func:`quadlib.sim.imu_samples`) to the
 estimator's inputs (a complementary filter for roll and pitch), so it depends on both; only

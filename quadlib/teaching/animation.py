@@ -76,7 +76,7 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
     Parameters
     ----------
     t : (N,) times [s]
-    x_true : (N, 3) true states ``[φ, ẏ, y]`` (chapter 6's model)
+    x_true : (N, 3) true states ``[φ, ẏ, y]`` (chapter 9's model)
     wall_y_m : float
         Position of the wall the beam hits [m].
     estimate, sigma : (N, 3), optional

@@ -1,7 +1,7 @@
 """Executing a notebook outside Jupyter: nbclient's client, made safe for the chapters' widgets.
 
 nbclient waits for each cell's reply with one long read of the kernel's shell channel. When a cell
-opens widgets (chapter 5's tuning sliders), that read sometimes does not wake up although the reply
+opens widgets (chapter 8's tuning sliders), that read sometimes does not wake up although the reply
 has arrived: the kernel is idle, and the reply is picked up only by the last, zero-length read at
 the cell's timeout — so a cell of two seconds takes ten minutes, and nothing fails (nbclient issue
 #312). Measured with the slider cell and both cores loaded: 5 of 25 and 2 of 20 runs stalled for

@@ -7,11 +7,11 @@ calls :func:`show_trial` once with fixed values, an output that the tests check 
 shows.
 
 * :func:`kf_tuning_trial` — the 1D quadrotor's Kalman filter with an assumed σ_w (Q) and σ_r (R)
-  over simulated flights: RMSE, and mean NEES / NIS against their χ² bands (chapters 03, 05).
+  over simulated flights: RMSE, and mean NEES / NIS against their χ² bands (chapters 06, 08).
 * :func:`complementary_trial` — the complementary filter's roll and pitch with a time constant
-  τ on the square flights of chapter 07.
+  τ on the square flights of chapter 10.
 * :func:`gate_trial` — a χ² gate of a chosen probability on the 2D quadrotor's sonar with
-  dropouts and outliers: outliers caught, good samples lost, RMSE (chapter 06).
+  dropouts and outliers: outliers caught, good samples lost, RMSE (chapter 09).
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from quadlib.validation import as_count, as_positive, as_probability
 __all__ = ["ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
            "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
 
-KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_w [m/s²] and σ_r [m] (chapters 03 and 05)
+KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_w [m/s²] and σ_r [m] (chapters 06 and 08)
 
 
 @dataclass(frozen=True)
@@ -84,7 +84,7 @@ class KfTuningTrial:
 def kf_tuning_trial(sigma_w: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
                     true_sigma_w: float = KF_TRUE_SIGMAS[0]) -> KfTuningTrial:
     """Run the 1D quadrotor's KF assuming ``sigma_w`` [m/s²] and ``sigma_r`` [m] on ``n_flights``
-    10 s flights (Δt = 0.02 s, 10 Hz range, the climb profile of chapters 03 and 05) simulated with
+    10 s flights (Δt = 0.02 s, 10 Hz range, the climb profile of chapters 06 and 08) simulated with
     ``true_sigma_w`` and the true σ_r = 0.1 m, all starting from the filter's prior."""
     sigma_w, sigma_r = as_positive("sigma_w", sigma_w), as_positive("sigma_r", sigma_r)
     true_sigma_w = as_positive("true_sigma_w", true_sigma_w)
@@ -128,12 +128,12 @@ class ComplementaryTrial:
         return f"τ = {self.tau:.3g} s on the {self.flight} square{bias}: RMS error roll {roll:.2f}°, pitch {pitch:.2f}°"
 
 
-FLIGHTS = {"slow": dict(leg_s=8.0, turn_s=2.0), "fast": dict(leg_s=3.0, turn_s=2.0)}  # chapter 07's squares
+FLIGHTS = {"slow": dict(leg_s=8.0, turn_s=2.0), "fast": dict(leg_s=3.0, turn_s=2.0)}  # chapter 10's squares
 
 
 def complementary_trial(tau: float, flight: str = "fast", gyro_bias: bool = False, seed: int = 0) -> ComplementaryTrial:
     """Run :func:`~quadlib.attitude.complementary.nonlinear_complementary` with ``tau`` [s] on
-    chapter 07's ``flight`` square, sampled at 500 Hz with :class:`~quadlib.quad.flight.SensorNoise3D`
+    chapter 10's ``flight`` square, sampled at 500 Hz with :class:`~quadlib.quad.flight.SensorNoise3D`
     (and a gyro bias of 0.02 rad/s on each axis when ``gyro_bias``); the yaw is the true one."""
     tau = as_positive("tau", tau)
     if flight not in FLIGHTS:
@@ -169,7 +169,7 @@ class GateTrial:
 
 
 def gate_trial(gate_probability: float | None, n_flights: int = 20, seed: int = 0) -> GateTrial:
-    """The sonar scenario of chapter 06 (roll swing 8°, roll error 1°, σ_r = 5 cm, 5 m from the wall,
+    """The sonar scenario of chapter 09 (roll swing 8°, roll error 1°, σ_r = 5 cm, 5 m from the wall,
     3 s at Δt = 0.05 s, 10 Hz) through :func:`~quadlib.analysis.montecarlo.run_monte_carlo` with
     ``gate_probability``."""
     if gate_probability is not None:

@@ -61,7 +61,7 @@ def test_batched_equals_one_run_at_a_time(gate):
 
 @pytest.mark.parametrize("gate", [None, 0.999])
 def test_the_batched_ekf_and_ukf_equal_one_run_at_a_time(gate):
-    """Chapter 6's wall-following quadrotor near the wall (where the range is most nonlinear), a
+    """Chapter 9's wall-following quadrotor near the wall (where the range is most nonlinear), a
     range sensor at half the step rate with dropouts (and 10 m outliers for the gate to reject:
     ungated, they make the filters diverge, where rounding differences grow without bound), and a
     UKF with other sigma-point weights that assumes a far more precise sensor than the truth's."""

@@ -1,5 +1,5 @@
 """The inertial navigation EKF: its model against finite differences, physics at rest, and the
-estimator on chapter 8's simulated square (accuracy against the 7-state EKF, consistency)."""
+estimator on chapter 11's simulated square (accuracy against the 7-state EKF, consistency)."""
 
 from dataclasses import replace
 
@@ -88,7 +88,7 @@ def test_bad_inputs_are_named():
         InsParams(gps_delay_s=-0.1)
 
 
-# --- chapter 8's square, 20 flights: the INS against the 7-state EKF and against the truth ----------
+# --- chapter 11's square, 20 flights: the INS against the 7-state EKF and against the truth ----------
 
 SIM_PARAMS = InsParams(gyro_sigma_rad_s=0.5, accel_sigma_m_s2=(0.5, 0.5, 1.5), gps_pos_sigma_m=(0.7, 0.7, 2.0),
                        gps_vel_sigma_m_s=(0.1, 0.1, 0.3), baro_sigma_m=0.5, heading_sigma_rad=0.05)

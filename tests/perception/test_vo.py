@@ -66,7 +66,7 @@ def test_noise_free_features_give_the_relative_pose_exactly(move, turn):
 
 def test_the_eight_point_solution_is_the_full_svds_bit_for_bit():
     """With more than eight pairs the reduced SVD is used (no N × N left factor); its last right
-    singular vector is the full SVD's, to the bit — chapter 16's stored outputs rely on it."""
+    singular vector is the full SVD's, to the bit — chapter 19's stored outputs rely on it."""
     rng = np.random.default_rng(3)
     x1, x2, _, _ = _pair(CAMERA_IN_BODY, [0.0, 0.0, -2.0], _rotation([0.02, -0.1, 0.03]) @ CAMERA_IN_BODY,
                          [0.3, -0.2, -2.1], sigma=1.0, rng=rng)

@@ -1,4 +1,4 @@
-"""The one-call 3D quadrotor EKF: chapter 8's filter and tuning."""
+"""The one-call 3D quadrotor EKF: chapter 11's filter and tuning."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Faults in the 3D EKF (chapter 8): a GPS outage, a magnetometer disturbance, yaw across ±π."""
+"""Faults in the 3D EKF (chapter 11): a GPS outage, a magnetometer disturbance, yaw across ±π."""
 
 import numpy as np
 import pytest

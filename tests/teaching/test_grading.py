@@ -31,7 +31,7 @@ def _chapter(name):
 
 
 def test_the_student_edition_removes_the_solutions_and_rubrics_and_keeps_the_rest():
-    full = _chapter("16_without_gps.ipynb")
+    full = _chapter("19_without_gps.ipynb")
     student = student_edition(full)
     nb = copy.deepcopy(full)  # the chapter without its rubrics, cell for cell the student edition's layout
     nb.cells = [c for c in nb.cells if RUBRIC_TAG not in c.metadata.get("tags", [])]
