@@ -1,10 +1,17 @@
 """Interactive tuning: what the chapters' sliders compute, and the sliders.
 
 Each ``*_trial`` function runs one small, seeded experiment for one setting and returns a
-record; :func:`plot_trial` draws it and :func:`show_trial` prints and draws it — the callback of
-a slider. A chapter offers the sliders (:func:`tuning_sliders`, live only in Jupyter) and then
-calls :func:`show_trial` once with fixed values, an output that the tests check and the book
-shows.
+record with a one-line ``summary()`` and, if it has a figure, a ``draw(fig)`` that draws on a
+matplotlib ``Figure`` it is given; :func:`plot_trial` makes that figure and :func:`show_trial`
+prints and shows it — the callback of a slider. A chapter offers the sliders
+(:func:`tuning_sliders`, live only in Jupyter) and then calls :func:`show_trial` once with fixed
+values, an output that the tests check and the book shows. A chapter's own experiment becomes a
+slider the same way: any record with ``summary()`` (and ``draw(fig)``) will do.
+
+The figures are ``matplotlib.figure.Figure`` objects made directly, never through pyplot: in
+JupyterLab a widget's callback may run on another thread than the cell that drew before it, and
+pyplot's current figure is shared between threads, so a callback that used it could draw on the
+wrong figure and show a blank one.
 
 * :func:`kf_tuning_trial` — the 1D quadrotor's Kalman filter with an assumed σ_w (Q) and σ_r (R)
   over simulated flights: RMSE, and mean NEES / NIS against their χ² bands (chapters 06, 08).
@@ -80,6 +87,16 @@ class KfTuningTrial:
                 f"–{self.nees_band[1]:.2f}), mean NIS {self.anis:.2f} (band {self.nis_band[0]:.2f}–"
                 f"{self.nis_band[1]:.2f}): {self.verdict}")
 
+    def draw(self, fig) -> None:
+        """Mean NEES and NIS against their χ² bands, on two log axes of ``fig``."""
+        from quadlib.teaching.plotting import plot_consistency
+
+        axes = fig.subplots(1, 2)
+        plot_consistency(self.t, self.mean_nees, 2, n_runs=self.n_flights, ax=axes[0], name="NEES")
+        plot_consistency(self.t_range, self.mean_nis, 1, n_runs=self.n_flights, ax=axes[1], name="NIS")
+        for ax in axes:
+            ax.set_yscale("log")
+
 
 def kf_tuning_trial(sigma_w: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
                     true_sigma_w: float = KF_TRUE_SIGMAS[0]) -> KfTuningTrial:
@@ -126,6 +143,16 @@ class ComplementaryTrial:
         roll, pitch = self.rms_deg
         bias = ", gyro biased by 0.02 rad/s" if self.gyro_bias else ""
         return f"τ = {self.tau:.3g} s on the {self.flight} square{bias}: RMS error roll {roll:.2f}°, pitch {pitch:.2f}°"
+
+    def draw(self, fig) -> None:
+        """Roll and pitch against the truth, side by side on ``fig``."""
+        axes = fig.subplots(1, 2, sharey=True)
+        for ax, i, name in zip(axes, (0, 1), ("roll", "pitch"), strict=True):
+            ax.plot(self.t, np.degrees(self.truth[:, i]), "k", lw=1, label="truth")
+            ax.plot(self.t, np.degrees(self.estimate[:, i]), "C0", lw=1, label=f"τ = {self.tau:.3g} s")
+            ax.set_xlabel("t [s]")
+            ax.set_ylabel(f"{name} [deg]")
+            ax.legend(fontsize="small", loc="upper right")
 
 
 FLIGHTS = {"slow": dict(leg_s=8.0, turn_s=2.0), "fast": dict(leg_s=3.0, turn_s=2.0)}  # chapter 10's squares
@@ -199,44 +226,34 @@ def gate_trial(gate_probability: float | None, n_flights: int = 20, seed: int = 
                      rmse_y=float(rmse(res.errors[:, :, 2].ravel())), anees=float(res.nees.mean()))
 
 
-def plot_trial(trial, axes=None):
-    """Draw a trial: NEES and NIS against their bands (KF tuning), roll and pitch against the
-    truth (complementary filter); a gate trial has no plot. Returns the figure or None."""
-    import matplotlib.pyplot as plt
+def _trial(trial):
+    if not callable(getattr(trial, "summary", None)):
+        raise TypeError(f"trial: expected a trial record with summary() (a KfTuningTrial, ComplementaryTrial, "
+                        f"GateTrial or a chapter's own), got {type(trial).__name__}")
+    return trial
 
-    from quadlib.teaching.plotting import plot_consistency
 
-    if isinstance(trial, KfTuningTrial):
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3)) if axes is None else (axes[0].figure, axes)
-        plot_consistency(trial.t, trial.mean_nees, 2, n_runs=trial.n_flights, ax=axes[0], name="NEES")
-        plot_consistency(trial.t_range, trial.mean_nis, 1, n_runs=trial.n_flights, ax=axes[1], name="NIS")
-        for ax in axes:
-            ax.set_yscale("log")
-    elif isinstance(trial, ComplementaryTrial):
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3), sharey=True) if axes is None else (axes[0].figure, axes)
-        for ax, i, name in zip(axes, (0, 1), ("roll", "pitch"), strict=True):
-            ax.plot(trial.t, np.degrees(trial.truth[:, i]), "k", lw=1, label="truth")
-            ax.plot(trial.t, np.degrees(trial.estimate[:, i]), "C0", lw=1, label=f"τ = {trial.tau:.3g} s")
-            ax.set_xlabel("t [s]")
-            ax.set_ylabel(f"{name} [deg]")
-            ax.legend(fontsize="small", loc="upper right")
-    elif isinstance(trial, GateTrial):
+def plot_trial(trial, figsize=(10.0, 3.0)):
+    """A new ``matplotlib.figure.Figure`` (not pyplot's) with ``trial.draw(fig)`` on it, laid out;
+    None for a trial without a figure (no ``draw``)."""
+    from matplotlib.figure import Figure
+
+    draw = getattr(_trial(trial), "draw", None)
+    if draw is None:
         return None
-    else:
-        raise TypeError(f"trial: expected a KfTuningTrial, ComplementaryTrial or GateTrial, got {type(trial).__name__}")
-    fig.tight_layout()
+    fig = Figure(figsize=figsize, layout="constrained")
+    draw(fig)
     return fig
 
 
 def show_trial(trial) -> None:
-    """Print a trial's summary and show its plot (a slider's callback)."""
-    import matplotlib.pyplot as plt
+    """Print a trial's summary and show its figure (a slider's callback)."""
+    from IPython.display import display
 
-    if not isinstance(trial, (KfTuningTrial, ComplementaryTrial, GateTrial)):
-        raise TypeError(f"trial: expected a KfTuningTrial, ComplementaryTrial or GateTrial, got {type(trial).__name__}")
-    print(trial.summary())
-    if plot_trial(trial) is not None:
-        plt.show()
+    print(_trial(trial).summary())
+    fig = plot_trial(trial)
+    if fig is not None:
+        display(fig)
 
 
 def tuning_sliders(trial_function, **sliders):

@@ -52,6 +52,29 @@ def test_show_trial_prints_the_summary(capsys):
     assert len(plot_trial(kf_tuning_trial(0.3, 0.1, n_flights=3)).axes) == 2
 
 
+def test_a_trial_draws_on_its_own_figure_and_leaves_pyplot_alone():
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    plt.close("all")
+    fig = plot_trial(complementary_trial(0.5))
+    assert isinstance(fig, Figure) and len(fig.axes) == 2 and fig.axes[0].get_lines()
+    assert plt.get_fignums() == []  # nothing registered with pyplot, so no thread can draw on it by mistake
+
+
+def test_a_chapters_own_record_is_a_trial():
+    class Coin:
+        def summary(self):
+            return "heads"
+
+        def draw(self, fig):
+            fig.subplots().plot([0, 1], [1, 0])
+
+    assert plot_trial(Coin()).axes[0].get_lines()
+    with pytest.raises(TypeError, match="trial: expected a trial record with summary"):
+        show_trial(object())
+
+
 def test_sliders_rerun_the_trial_with_the_values_set():
     seen = []
 
