@@ -8,6 +8,7 @@ from quadlib.geometry import quat_to_dcm, quat_to_euler
 
 FLIGHT = load_px4_log()
 HANDHELD = load_ulog()
+CURRENT = load_ulog("px4/sample_px4_events.ulg")  # PX4 v1.15: sensors in their own topics, new GPS fields
 
 
 def _earth(q, v):
@@ -70,9 +71,50 @@ def test_the_handheld_ulog():
     np.testing.assert_allclose(f_n, [0.0, 0.0, -9.7], atol=0.15)
 
 
+def test_a_current_px4_ulog_loads_every_sensor():
+    imu = CURRENT.imu
+    assert CURRENT.imu_rate_hz == pytest.approx(250.0, rel=1e-3)
+    # the magnetometer's own topic, each reading on the first IMU row after it was sampled
+    assert np.isfinite(imu.mag[:, 0]).sum() == 459 and 0.2 < np.nanmedian(np.linalg.norm(imu.mag, axis=1)) < 0.7
+    at_rest = imu.t < 1.0
+    np.testing.assert_allclose(np.median(imu.accel[at_rest], axis=0), [0.0, 0.0, -9.8], atol=0.2)
+    k = np.clip(np.searchsorted(CURRENT.attitude.t, imu.t), 0, CURRENT.attitude.t.size - 1)
+    np.testing.assert_allclose(np.median(_earth(CURRENT.attitude.z[k], imu.accel), axis=0), [0.0, 0.0, -9.8], atol=0.2)
+    # barometer and GPS (new field names) agree with each other and with the autopilot
+    assert CURRENT.baro.t.size > 500 and abs(np.median(CURRENT.baro.z) - CURRENT.origin[2]) < 2.0
+    assert CURRENT.origin[0] == pytest.approx(47.3977, abs=1e-3)
+    assert CURRENT.gps_rate_hz == pytest.approx(19.2, rel=0.05)
+    k = np.clip(np.searchsorted(CURRENT.position.t, CURRENT.gps.t), 0, CURRENT.position.t.size - 1)
+    horizontal = np.linalg.norm(CURRENT.position.z[k, :2] - CURRENT.gps.z[:, :2], axis=1)
+    assert np.median(horizontal) < 0.5 and CURRENT.position_accuracy.z.shape == (CURRENT.position.t.size, 2)
+    # the parameters a filter needs
+    assert CURRENT.mag_declination_rad == pytest.approx(np.radians(3.323), abs=1e-4)
+    assert CURRENT.gps_delay_s == pytest.approx(0.11)
+    assert HANDHELD.mag_declination_rad is None and HANDHELD.gps_delay_s is None and HANDHELD.gps_rate_hz is None
+
+
+def test_the_raw_sensor_topics_stand_in_for_the_vehicle_ones(monkeypatch):
+    from quadlib.data import px4
+
+    vehicle_topics = ("vehicle_magnetometer", "vehicle_air_data", "vehicle_gps_position")
+    raw_only = [t for t in px4._ULOG_TOPICS if t not in vehicle_topics]
+    monkeypatch.setattr(px4, "_ULOG_TOPICS", raw_only)
+    raw = load_ulog("px4/sample_px4_events.ulg")
+    assert np.isfinite(raw.imu.mag[:, 0]).sum() > 20  # sensor_mag, logged at 1 Hz here
+    k = np.searchsorted(CURRENT.baro.t, raw.baro.t).clip(0, CURRENT.baro.t.size - 1)
+    assert np.median(np.abs(raw.baro.z - CURRENT.baro.z[k])) < 1.0  # sensor_baro's pressure, standard atmosphere
+    assert raw.gps.t.size < CURRENT.gps.t.size  # sensor_gps is logged at 1 Hz here
+    np.testing.assert_allclose(raw.origin[:2], CURRENT.origin[:2], atol=1e-5)
+
+
 def test_missing_damaged_and_wrong_files_are_named(tmp_path):
-    with pytest.raises(DataNotFoundError, match="px4/no_flight.px4log"):
-        load_px4_log("no_flight.px4log")
+    with pytest.raises(DataNotFoundError, match="px4/no_flight.px4log.*Searched"):
+        load_px4_log("px4/no_flight.px4log")  # asked for in the data folder: where it was looked for
+    with pytest.raises(FileNotFoundError, match="log: no such file: 'no_flight.px4log'") as info:
+        load_px4_log("no_flight.px4log")  # not one of the project's logs: the caller's own missing file
+    assert not isinstance(info.value, DataNotFoundError) and "01_07_59.px4log" in str(info.value)
+    with pytest.raises(FileNotFoundError, match="log: no such file: .*flights/mine.ulg"):
+        load_ulog(tmp_path / "flights" / "mine.ulg")
     garbage = tmp_path / "garbage.px4log"
     garbage.write_bytes(b"\xa3\x95" + bytes(range(256)) * 8)
     with pytest.raises(DataCorruptError, match="garbage.px4log"):
