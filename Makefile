@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: book student grade test unit nbval lab benchmark lint clean
+.PHONY: book student student-notebooks grade test unit nbval lab lab-instructor serve benchmark lint clean
 
 $(STAMP): environment.txt pyproject.toml
 	@command -v $(PYTHON) >/dev/null 2>&1 || { echo "error: $(PYTHON) not found; run 'make PYTHON=/path/to/python3.11 ...'" >&2; exit 1; }
@@ -25,10 +25,13 @@ book: $(STAMP)
 	@echo "Book built: $(CURDIR)/_build/html/index.html"
 
 # The student edition (solutions replaced by answer cells) and its book, from the stored outputs
-student: $(STAMP)
-	rm -rf book/chapters _build/student
-	mkdir -p book/chapters
+student-notebooks: $(STAMP)
+	rm -rf _build/student/notebooks
 	$(BIN)/python scripts/student_edition.py _build/student/notebooks
+
+student: student-notebooks
+	rm -rf book/chapters _build/student/html
+	mkdir -p book/chapters
 	cp _build/student/notebooks/*.ipynb book/chapters/
 	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html \
 		-D nb_execution_mode=off book _build/student/html
@@ -52,10 +55,21 @@ unit: $(STAMP)
 nbval: $(STAMP)
 	$(BIN)/python -m pytest notebooks $(NBVAL)
 
-# make lab ARGS="--allow-root --no-browser --port 8890": options for JupyterLab
+# make lab ARGS="--allow-root --no-browser --port 8890": options for JupyterLab.
+# Students open the student edition (written first if needed); instructors the chapters with solutions.
 ARGS ?=
 lab: $(STAMP)
+	@test -d _build/student/notebooks || $(MAKE) student-notebooks
+	$(BIN)/jupyter lab _build/student/notebooks $(ARGS)
+
+lab-instructor: $(STAMP)
 	$(BIN)/jupyter lab notebooks $(ARGS)
+
+# The built book over http://127.0.0.1:8000 (its search needs a server; file:// pages cannot load the index)
+PORT ?= 8000
+serve:
+	@test -d _build/html || { echo "no book yet: run 'make book' first" >&2; exit 1; }
+	$(BIN)/python -m http.server $(PORT) --bind 127.0.0.1 -d _build/html
 
 benchmark: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py

@@ -27,12 +27,14 @@ nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_merge_streams = True
 nb_ipywidgets_js = {}  # no widget scripts from a CDN: slider cells show no output in the book
+nb_code_prompt_show = "Show the solution"  # the only cells the book folds are the exercises' solutions
+nb_code_prompt_hide = "Hide the solution"
 
 html_theme = "sphinx_book_theme"
 html_title = project
 html_theme_options = {
     "show_toc_level": 2,
-    "use_download_button": True,
+    "use_download_button": False,  # it would hand out the instructor's notebook: students use the student edition
     "home_page_in_toc": True,
 }
 html_last_updated_fmt = None
