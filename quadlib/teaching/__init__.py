@@ -10,6 +10,7 @@ from .display import rounding, show_source, span
 from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import covariance_ellipse, plot_consistency, plot_covariance_ellipse, plot_estimate, plot_innovations
+from .sigma_plots import plot_sigma_points
 from .tuning import (
                      ComplementaryTrial,
                      GateTrial,
@@ -56,6 +57,7 @@ __all__ = [
     "plot_covariance_ellipse",
     "plot_estimate",
     "plot_innovations",
+    "plot_sigma_points",
     "progress",
     "quad2d_geometry",
     "recursive_mean",
