@@ -113,8 +113,12 @@ def test_every_slider_draws_its_figure_on_the_first_move(lab, browser):
     page.wait_for_function(IDLE, timeout=90_000)
     interact = page.locator(".widget-interact").first
     interact.wait_for(timeout=30_000)
+    interact.scroll_into_view_if_needed()
     sliders = interact.locator(".noUi-handle")
-    static = _png(page.locator(".jp-OutputArea-output img").nth(1).get_attribute("src"))  # the fixed setting below
+    below = page.locator("xpath=//div[contains(@class, 'jp-Cell')][.//div[contains(@class, 'widget-interact')]]"
+                         "/following-sibling::div[contains(@class, 'jp-Cell')][1]//img").first
+    below.wait_for(timeout=30_000)
+    static = _png(below.get_attribute("src"))  # the cell after the sliders: the same experiment at a fixed setting
     assert sliders.count() >= 3 and _inked(static) > 0.05, "the chapter's sliders or its static figure are missing"
     for i in range(sliders.count()):
         before = interact.locator(".widget-output").inner_text()
