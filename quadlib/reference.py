@@ -6,8 +6,12 @@ work use :class:`~quadlib.filters.ModelEKF` and :class:`~quadlib.filters.ModelUK
 input checks, gating, angle residuals and multi-rate replay.
 
 Each function takes a :class:`~quadlib.model.Model` or :class:`~quadlib.model.Sensor` and plain
-arrays, and returns new arrays: mean ``mu`` of shape ``(n,)``, covariance ``Sigma`` ``(n, n)``.
-The corrections of the errata appendix are applied (E2/E3 in Algorithm 2; E5–E7 in Algorithm 3).
+arrays, and returns new arrays: a mean of shape ``(n,)`` and a covariance ``(n, n)``. The Kalman
+filter's two steps use the book's letters (chapter 00): estimate ``x``, ``P``; prior ``x_bar``,
+``P_bar``; Jacobians ``G``, ``H``; innovation ``y``, its covariance ``S``; gain ``K``. The UKF's keep
+the source's ``mu``, ``Sigma`` (Tellex's μ, Σ for the same mean and covariance), as chapter 07 quotes
+them beside Algorithm 3. The corrections of the errata appendix are applied (E2/E3 in Algorithm 2;
+E5–E7 in Algorithm 3).
 """
 
 from __future__ import annotations
@@ -19,26 +23,34 @@ from quadlib.model import Model, Sensor
 __all__ = ["ekf_predict", "ekf_update", "sigma_points", "ukf_predict", "ukf_update"]
 
 
-def ekf_predict(model: Model, mu, Sigma, u, dt: float):
-    """Algorithm 2, lines 1–5: ``μ̄ = g(μ, u, Δt)``, ``Σ̄ = G Σ Gᵀ + Q`` with ``G`` at ``μ``."""
-    G = model.G(mu, u, dt)
-    return model.g(mu, u, dt), G @ Sigma @ G.T + model.Q(dt)
+def ekf_predict(model: Model, x, P, u, dt: float):
+    """Algorithm 2, PREDICT (lines 1–5): the prior ``x̄ = g(x, u, Δt)`` and ``P̄ = G P Gᵀ + Q``, with
+    the Jacobian ``G`` taken at the previous estimate ``x``. For a linear model, ``g(x, u, Δt)`` is
+    ``G x + B u`` and these are the Kalman filter's lines."""
+    G = model.G(x, u, dt)
+    x_bar = model.g(x, u, dt)
+    P_bar = G @ P @ G.T + model.Q(dt)
+    return x_bar, P_bar
 
 
-def ekf_update(sensor: Sensor, mu_bar, Sigma_bar, z, joseph: bool = False):
-    """Algorithm 2, lines 6–11, for a sensor with the plain residual ``z - h(μ̄)``.
+def ekf_update(sensor: Sensor, x_bar, P_bar, z, joseph: bool = False):
+    """Algorithm 2, UPDATE (lines 6–11), for a sensor with the plain residual ``z - h(x̄)``: the
+    innovation ``y``, its covariance ``S``, the gain ``K`` and the posterior ``x``, ``P``, with the
+    Jacobian ``H`` taken at the prior ``x̄``.
 
-    ``joseph=False`` uses line 10 as printed, ``Σ = (I - K H) Σ̄``; ``joseph=True`` uses
-    ``(I - K H) Σ̄ (I - K H)ᵀ + K R Kᵀ``, equal in exact arithmetic and symmetric by construction.
+    ``joseph=False`` uses line 10 as printed, ``P = (I - K H) P̄``; ``joseph=True`` uses
+    ``(I - K H) P̄ (I - K H)ᵀ + K R Kᵀ``, equal in exact arithmetic and symmetric by construction.
     """
     _require_plain_residual(sensor)
-    H = sensor.H(mu_bar)
-    K = Sigma_bar @ H.T @ np.linalg.inv(H @ Sigma_bar @ H.T + sensor.R)
-    mu = mu_bar + K @ (z - sensor.h(mu_bar))
-    I_KH = np.eye(mu.size) - K @ H
+    H, R = sensor.H(x_bar), sensor.R
+    y = z - sensor.h(x_bar)
+    S = H @ P_bar @ H.T + R
+    K = P_bar @ H.T @ np.linalg.inv(S)
+    x = x_bar + K @ y
+    I_KH = np.eye(x.size) - K @ H
     if joseph:
-        return mu, I_KH @ Sigma_bar @ I_KH.T + K @ sensor.R @ K.T
-    return mu, I_KH @ Sigma_bar
+        return x, I_KH @ P_bar @ I_KH.T + K @ R @ K.T
+    return x, I_KH @ P_bar
 
 
 def sigma_points(mu, Sigma, alpha: float, beta: float, kappa: float):

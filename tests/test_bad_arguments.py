@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from matplotlib.figure import Figure
 
 from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Samples, Sensor, rts_smooth, run_filter
 from quadlib.analysis import (
@@ -260,7 +261,9 @@ from quadlib.teaching import (
     belief_mean_std,
     cart_model,
     cart_position_sensor,
+    cart_push_input,
     cart_speed_sensor,
+    cart_tuning_trial,
     complementary_trial,
     covariance_ellipse,
     exercises,
@@ -273,6 +276,7 @@ from quadlib.teaching import (
     half_average,
     kf_tuning_trial,
     mutation_run,
+    plot_chi2_band,
     plot_consistency,
     plot_covariance_ellipse,
     plot_estimate,
@@ -281,6 +285,7 @@ from quadlib.teaching import (
     plot_trial,
     progress,
     quad2d_geometry,
+    readable_log_axis,
     recursive_mean,
     rounding,
     show_source,
@@ -342,6 +347,14 @@ class Probe:
     func: object
     args: object
     kinds: dict = field(default_factory=dict)
+
+
+def _log_axes():
+    """Axes of a figure that pyplot does not know, with a logarithmic y axis."""
+    ax = Figure().subplots()
+    ax.set_yscale("log")
+    ax.set_ylim(0.5, 50.0)
+    return ax
 
 
 def _motion():
@@ -893,6 +906,10 @@ PROBES += [
     Probe(kf_tuning_trial, lambda: dict(sigma_w=0.3, sigma_r=0.1, n_flights=2),
           {"sigma_w": POS, "sigma_r": POS, "n_flights": st.sampled_from([1, 0, 2.5, True]), "seed": SEED_ARG,
            "true_sigma_w": POS}),
+    Probe(cart_tuning_trial, lambda: dict(sigma_w=0.2, sigma_p=0.5, n_flights=2),
+          {"sigma_w": POS, "sigma_p": POS, "sigma_v": POS, "n_flights": st.sampled_from([1, 0, 2.5, True]),
+           "seed": SEED_ARG}),
+    Probe(cart_push_input, lambda: dict(t=[0.0, 0.1]), {"t": BAD["times"]}),
     Probe(complementary_trial, lambda: dict(tau=1.0),
           {"tau": POS, "flight": st.sampled_from(["medium", 1, None]), "gyro_bias": st.sampled_from([1, "yes", None]),
            "seed": SEED_ARG}),
@@ -1110,6 +1127,10 @@ PROBES += [
            "weights": st.sampled_from([[1.0, 2.0], [NAN, 0.0, 1.0], "w", None]), "size": POS,
            "annotate": st.sampled_from(["yes", 1, None, "all"]), "fmt": st.sampled_from(["d", 3, None]),
            "color": st.sampled_from([3, None]), "label": st.sampled_from([3, object()])}),
+    Probe(plot_chi2_band, lambda: dict(t=[0.0, 0.1], values=[1.0, 2.0], dof=2, ax=Figure().subplots()),
+          {"t": BAD["times"], "values": st.sampled_from([[1.0], "v", [[1.0, 2.0]]]), "dof": COUNT, "n_runs": COUNT,
+           "probability": PROB, "yscale": st.sampled_from(["logit", 1, None])}),
+    Probe(readable_log_axis, lambda: dict(ax=_log_axes()), {"ax": WRONG_TYPE, "axis": st.sampled_from(["z", 1, None])}),
     Probe(plot_consistency, lambda: dict(t=[0.0, 0.1], values=[1.0, 2.0], dof=2),
           {"t": BAD["times"], "values": st.sampled_from([[1.0], "v"]), "dof": COUNT, "n_runs": COUNT,
            "probability": PROB}),
@@ -1149,6 +1170,7 @@ NOT_PROBED = {
     "cast_rays": "the unchecked ray-casting kernel of lidar_scan and scan_log_likelihood (both probed)",
     "LocalisationRun": RESULT, "LocalisationScenario": RESULT, "MapMatch": RESULT, "DeniedFlight": RESULT,
     "VoRun": RESULT, "KfTuningTrial": RESULT, "ComplementaryTrial": RESULT, "GateTrial": RESULT,
+    "CartTuningTrial": RESULT,
     "Exercise": RESULT, "Grade": RESULT, "Mutation": RESULT,
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
     "FilterRun": RESULT,

@@ -5,7 +5,9 @@ from quadlib.progress import progress
 
 from .animation import animate_quad2d, animation_html, quad2d_geometry
 from .averaging import batch_mean, exponential_average, half_average, recursive_mean
+from .bands import plot_chi2_band, readable_log_axis
 from .cart import cart_model, cart_position_sensor, cart_speed_sensor
+from .cart_tuning import CartTuningTrial, cart_push_input, cart_tuning_trial
 from .display import rounding, show_source, span
 from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
@@ -24,6 +26,7 @@ from .tuning import (
 )
 
 __all__ = [
+    "CartTuningTrial",
     "ComplementaryTrial",
     "GateTrial",
     "KfTuningTrial",
@@ -35,7 +38,9 @@ __all__ = [
     "batch_mean",
     "cart_model",
     "cart_position_sensor",
+    "cart_push_input",
     "cart_speed_sensor",
+    "cart_tuning_trial",
     "complementary_trial",
     "covariance_ellipse",
     "gate_trial",
@@ -53,6 +58,7 @@ __all__ = [
     "half_average",
     "mutation_run",
     "try_answers",
+    "plot_chi2_band",
     "plot_consistency",
     "plot_covariance_ellipse",
     "plot_estimate",
@@ -60,6 +66,7 @@ __all__ = [
     "plot_sigma_points",
     "progress",
     "quad2d_geometry",
+    "readable_log_axis",
     "recursive_mean",
     "rounding",
     "show_source",

@@ -88,14 +88,19 @@ class KfTuningTrial:
                 f"{self.nis_band[1]:.2f}): {self.verdict}")
 
     def draw(self, fig) -> None:
-        """Mean NEES and NIS against their χ² bands, on two log axes of ``fig``."""
-        from quadlib.teaching.plotting import plot_consistency
+        """Mean NEES and NIS against their χ² bands (:func:`~quadlib.teaching.bands.plot_chi2_band`:
+        shaded bands, plain log ticks where the values span decades), side by side on ``fig``, with
+        one legend above them."""
+        from quadlib.teaching.bands import plot_chi2_band
 
         axes = fig.subplots(1, 2)
-        plot_consistency(self.t, self.mean_nees, 2, n_runs=self.n_flights, ax=axes[0], name="NEES")
-        plot_consistency(self.t_range, self.mean_nis, 1, n_runs=self.n_flights, ax=axes[1], name="NIS")
-        for ax in axes:
-            ax.set_yscale("log")
+        plot_chi2_band(self.t, self.mean_nees, 2, n_runs=self.n_flights, ax=axes[0], name="NEES",
+                       label="mean NEES or NIS")
+        plot_chi2_band(self.t_range, self.mean_nis, 1, n_runs=self.n_flights, ax=axes[1], name="NIS", marker=".")
+        axes[0].set_title("NEES (n = 2)", fontsize="medium")
+        axes[1].set_title("NIS of the range sensor", fontsize="medium")
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside upper center", ncol=3, fontsize="small", frameon=False)
 
 
 def kf_tuning_trial(sigma_w: float, sigma_r: float, n_flights: int = 20, seed: int = 0,
