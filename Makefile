@@ -24,10 +24,11 @@ book: $(STAMP)
 	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html book _build/html
 	@echo "Book built: $(CURDIR)/_build/html/index.html"
 
-# The student edition (solutions replaced by answer cells) and its book, from the stored outputs
+# The student edition (otter-grader: answer cells, public tests, no solutions), the autograders,
+# the solved notebooks and the points; then its book, from the stored outputs
 student-notebooks: $(STAMP)
-	rm -rf _build/student/notebooks
-	$(BIN)/python scripts/student_edition.py _build/student/notebooks
+	rm -rf _build/student/notebooks _build/student/autograder _build/student/solved
+	$(BIN)/python scripts/student_edition.py _build/student
 
 student: student-notebooks
 	rm -rf book/chapters _build/student/html
@@ -37,10 +38,14 @@ student: student-notebooks
 		-D nb_execution_mode=off book _build/student/html
 	@echo "Student notebooks: $(CURDIR)/_build/student/notebooks; book: $(CURDIR)/_build/student/html/index.html"
 
-# make grade SUBMISSIONS=folder: run every submitted notebook, write folder/scores.csv
+# make grade SUBMISSIONS=folder [CELL_TIMEOUT=120] [SUBMISSION_TIMEOUT=1200]: grade every submitted
+# notebook with the instructor's tests, write folder/scores.csv
+CELL_TIMEOUT ?= 120
+SUBMISSION_TIMEOUT ?= 1200
 grade: $(STAMP)
 	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade SUBMISSIONS=folder-of-notebooks" >&2; exit 1; }
-	$(BIN)/python scripts/grade.py $(SUBMISSIONS)
+	@test -d _build/student/autograder || $(MAKE) student-notebooks
+	$(BIN)/python scripts/grade.py $(SUBMISSIONS) --cell-timeout $(CELL_TIMEOUT) --submission-timeout $(SUBMISSION_TIMEOUT)
 
 NBVAL := --nbval --nbval-sanitize-with notebooks/nbval_sanitize.cfg --nbval-cell-timeout=300 -p no:cacheprovider
 

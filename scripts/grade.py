@@ -1,46 +1,29 @@
-"""Grade a folder of submitted chapter notebooks into a score table with per-exercise feedback.
+"""Grade a folder of submitted chapters with the instructor's tests, into a score table.
 
-Usage: ``python scripts/grade.py SUBMISSIONS_DIR [SCORES_CSV]`` (``make grade SUBMISSIONS=…``).
-Every ``*.ipynb`` below the folder is executed top to bottom (a failing cell does not stop the
-run) and each exercise's check decides (:func:`quadlib.teaching.grading.grade_notebook`). The
-table goes to the screen and to ``SCORES_CSV`` (default ``SUBMISSIONS_DIR/scores.csv``), one row
-per submission and exercise.
+Usage: ``python scripts/grade.py SUBMISSIONS_DIR [--autograders DIR] [--cell-timeout S]
+[--submission-timeout S]`` (``make grade SUBMISSIONS=…``); see :mod:`quadlib.teaching.autograde`.
+The autograders are ``make student``'s (default ``_build/student/autograder``); the scores go to
+``SUBMISSIONS_DIR/scores.csv``.
 """
 
 from __future__ import annotations
 
-import csv
-import sys
+import argparse
 from pathlib import Path
 
 from quadlib.progress import switch_off
-from quadlib.teaching.grading import grade_notebook
+from quadlib.teaching.autograde import grade_folder
 
-switch_off()  # no progress bars in stored or timed outputs
+switch_off()  # no progress bars in the graded runs
 
-
-def main(folder: Path, scores: Path) -> None:
-    submissions = sorted(p for p in folder.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
-    if not submissions:
-        sys.exit(f"no notebooks found below {folder}")
-    rows = []
-    for path in submissions:
-        grades = grade_notebook(path)
-        passed = sum(g.passed for g in grades)
-        print(f"{path.relative_to(folder)}: {passed} of {len(grades)} exercises passed")
-        for g in grades:
-            print(f"  {g.number}. {'passed' if g.passed else 'FAILED'}{'' if g.passed else ': ' + g.feedback}")
-            rows.append({"submission": str(path.relative_to(folder)), "exercise": g.number,
-                         "passed": int(g.passed), "feedback": g.feedback})
-    with scores.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=["submission", "exercise", "passed", "feedback"])
-        writer.writeheader()
-        writer.writerows(rows)
-    print(f"scores: {scores}")
-
+ROOT = Path(__file__).resolve().parent.parent
 
 if __name__ == "__main__":
-    if len(sys.argv) not in (2, 3):
-        sys.exit("usage: python scripts/grade.py SUBMISSIONS_DIR [SCORES_CSV]")
-    folder = Path(sys.argv[1])
-    main(folder, Path(sys.argv[2]) if len(sys.argv) == 3 else folder / "scores.csv")
+    parser = argparse.ArgumentParser(description="Grade submitted chapters with the instructor's tests.")
+    parser.add_argument("submissions", type=Path)
+    parser.add_argument("--autograders", type=Path, default=ROOT / "_build" / "student" / "autograder")
+    parser.add_argument("--cell-timeout", type=int, default=120, help="seconds one cell may run [120]")
+    parser.add_argument("--submission-timeout", type=int, default=1200, help="seconds one submission may run [1200]")
+    a = parser.parse_args()
+    scores = grade_folder(a.submissions, a.autograders, a.cell_timeout, a.submission_timeout, log=print)
+    print(f"scores: {scores}")

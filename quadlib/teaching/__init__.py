@@ -9,7 +9,7 @@ from .bands import plot_chi2_band, readable_log_axis
 from .cart import cart_model, cart_position_sensor, cart_speed_sensor
 from .cart_tuning import CartTuningTrial, cart_push_input, cart_tuning_trial
 from .display import rounding, show_source, span
-from .grading import Exercise, Grade, Mutation, exercises, grade_notebook, mutation_run, student_edition, try_answers
+from .grading import Exercise, Mutation, exercises, mutation_run, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
 from .plotting import covariance_ellipse, plot_consistency, plot_covariance_ellipse, plot_estimate, plot_innovations
 from .sigma_plots import plot_sigma_points
@@ -31,7 +31,6 @@ __all__ = [
     "GateTrial",
     "KfTuningTrial",
     "Exercise",
-    "Grade",
     "Mutation",
     "animate_quad2d",
     "animation_html",
@@ -54,7 +53,6 @@ __all__ = [
     "gaussian_belief",
     "gaussian_kernel",
     "gaussian_likelihood",
-    "grade_notebook",
     "half_average",
     "mutation_run",
     "try_answers",
@@ -71,6 +69,5 @@ __all__ = [
     "rounding",
     "show_source",
     "span",
-    "student_edition",
     "uniform_grid",
 ]

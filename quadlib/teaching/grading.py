@@ -1,47 +1,36 @@
-"""Graded exercises: the student edition of a chapter, and grading a submitted notebook.
+"""Graded exercises as a chapter writes them, and the proof that their checks reject wrong answers.
 
 A chapter's exercise is three cells: its statement (markdown, naming each answer in backticks),
-the hidden solution (a code cell tagged ``solution``) and the check (the next code cell, which
-says "answer not set yet" for a missing answer and otherwise asserts that the answer is right,
-with a message that says what is wrong without giving the answer away).
+the solution (a code cell tagged ``solution``) and the check (the next code cell, which says
+"answer not set yet" for a missing answer and otherwise asserts that the answer is right, with a
+message that says what is wrong without giving the answer away). An open question is graded by
+hand: its statement is followed by a markdown cell tagged ``rubric`` (criteria and points, inside a
+``<details>`` element, so Jupyter and the instructor book show it collapsed).
 
-* :func:`student_edition` replaces each solution by an empty answer cell (tagged ``answer``),
-  clears the outputs of the answer and check cells, and drops the grading rubrics: the rest of
-  the chapter keeps its outputs.
-* An open question is graded by hand: its statement is followed by a markdown cell tagged
-  ``rubric`` (criteria and points, inside a ``<details>`` element, so Jupyter and the instructor
-  book show it collapsed).
-* :func:`grade_notebook` executes a submitted notebook top to bottom (nbclient, through
-  :func:`~quadlib.teaching.execution.notebook_client`; a failing cell
-  does not stop the run) and reads each check's outcome: passed, or the assertion's message as
-  feedback.
-* :func:`mutation_run` proves the checks: a solution cell lists plausible wrong answers in its
-  metadata (``"mutations"``: a guess of the right order, a neighbouring quantity, another
-  filter's figure, a unit or sign slip), and each, run in place of the solution, must make the
-  check fail with something other than "answer not set yet"; the student edition's empty answer
-  cell, run there too, must make it say "answer not set yet". :func:`try_answers` tries one
-  exercise's answers in a running kernel; the nbval plugin
+The student edition and the grading are otter-grader's (:mod:`quadlib.teaching.assignments`: the
+check's guards become the public test, the rest of it the hidden one; :mod:`~quadlib.teaching.autograde`
+runs the autograder). This module proves the checks before any student sees them:
+
+* :func:`mutation_run`: a solution cell lists plausible wrong answers in its metadata
+  (``"mutations"``: a guess of the right order, a neighbouring quantity, another filter's figure, a
+  unit or sign slip), and each, run in place of the solution, must make the check fail with
+  something other than "answer not set yet"; the student edition's blank answer cell
+  (:func:`blank_answer`), run there too, must make it say "answer not set yet".
+* :func:`try_answers` tries one exercise's answers in a running kernel; the nbval plugin
   :mod:`~quadlib.teaching.nbval_exercises` calls it inside nbval's run of each chapter.
-
-The project grades with this small tool rather than otter-grader or nbgrader. Both would need
-every chapter rewritten into their own format (otter's ``# BEGIN QUESTION`` cells and separate
-test files, nbgrader's cell metadata and gradebook database), and otter grades in Docker
-containers by default; here the solution edition is the chapter itself, which nbval already
-checks cell by cell, and the tags it carries are all the grader needs.
 """
 
 from __future__ import annotations
 
 import ast
-import copy
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 from quadlib.validation import as_count, as_instance, as_positive
 
-__all__ = ["ANSWER_TAG", "RUBRIC_TAG", "SOLUTION_TAG", "Exercise", "Grade", "Mutation", "exercises", "grade_notebook",
-           "mutation_run", "student_edition", "try_answers"]
+__all__ = ["ANSWER_TAG", "RUBRIC_TAG", "SOLUTION_TAG", "Exercise", "Mutation", "blank_answer", "exercises",
+           "mutation_run", "try_answers"]
 
 SOLUTION_TAG, ANSWER_TAG, RUBRIC_TAG = "solution", "answer", "rubric"
 _NAME = re.compile(r"`([A-Za-z_]\w*)[`(]")
@@ -71,16 +60,6 @@ class Exercise:
     answers: tuple[str, ...]
 
 
-@dataclass(frozen=True)
-class Grade:
-    """The outcome of one exercise in a submission: its number (1, 2, …), whether its check
-    ``passed``, and the check's ``feedback`` (the assertion's message, or the error)."""
-
-    number: int
-    passed: bool
-    feedback: str
-
-
 def _notebook(nb):
     if not (hasattr(nb, "cells") and isinstance(nb.cells, list)):
         raise TypeError(f"nb: expected a notebook (nbformat.NotebookNode), got {type(nb).__name__}")
@@ -105,25 +84,9 @@ def exercises(nb) -> list[Exercise]:
     return out
 
 
-def _blank_answer(ex: Exercise) -> str:
+def blank_answer(ex: Exercise) -> str:
     """The student edition's answer cell of ``ex``: a comment naming what to define."""
     return f"# Your answer: define {', '.join(ex.answers) or 'your answer'} here.\n"
-
-
-def student_edition(nb):
-    """A copy of ``nb`` with each solution replaced by an answer cell to fill in (tagged
-    ``answer``), the outputs of answer and check cells cleared, and the rubrics removed."""
-    student = copy.deepcopy(_notebook(nb))
-    student.cells = [c for c in student.cells if RUBRIC_TAG not in c.get("metadata", {}).get("tags", [])]
-    for ex in exercises(student):
-        cell = student.cells[ex.answer]
-        cell.source = _blank_answer(ex)
-        tags = [t for t in cell.metadata.get("tags", []) if t not in (SOLUTION_TAG, "hide-input")]
-        cell.metadata = {"tags": tags + [ANSWER_TAG]}
-        cell.outputs, cell.execution_count = [], None
-        check = student.cells[ex.check]
-        check.outputs, check.execution_count = [], None
-    return student
 
 
 def _submission(path, timeout_s: float):
@@ -146,24 +109,6 @@ def _error(cell) -> tuple[str, str] | None:
         if out.get("output_type") == "error":
             return out.get("ename", ""), out.get("evalue", "")
     return None
-
-
-def grade_notebook(path, timeout_s: float = 600.0) -> list[Grade]:
-    """Execute the notebook at ``path`` and grade each of its exercises by its check's outcome."""
-    nb, client = _submission(path, timeout_s)
-    client.execute()
-    grades = []
-    for number, ex in enumerate(exercises(nb), start=1):
-        error = _error(nb.cells[ex.check])
-        if error is not None:
-            name, message = error
-            feedback = message or name or "error"
-            if name != "AssertionError":
-                feedback = f"{name}: {feedback}"
-            grades.append(Grade(number, False, feedback))
-        else:
-            grades.append(Grade(number, True, "passed"))
-    return grades
 
 
 @dataclass(frozen=True)
@@ -192,7 +137,7 @@ def try_answers(nb, ex: Exercise, number: int, execute) -> list[Mutation]:
         raise TypeError(f"execute: expected a function of the source that returns an error or None, got "
                         f"{type(execute).__name__}")
     results = []
-    for k, source in enumerate([_blank_answer(ex), *nb.cells[ex.answer].metadata.get("mutations", [])]):
+    for k, source in enumerate([blank_answer(ex), *nb.cells[ex.answer].metadata.get("mutations", [])]):
         blank = k == 0
         answer_error = execute(source)
         error = answer_error or execute(nb.cells[ex.check].source)

@@ -25,11 +25,10 @@ import time
 import urllib.request
 from pathlib import Path
 
-import nbformat
 import numpy as np
 import pytest
 
-from quadlib.teaching.grading import student_edition
+from quadlib.teaching.assignments import build_assignment
 
 ROOT = Path(__file__).resolve().parents[2]
 CHAPTER = "10_attitude_complementary.ipynb"
@@ -72,8 +71,9 @@ def browser():
 @pytest.fixture(scope="module")
 def lab(tmp_path_factory):
     """JupyterLab on 127.0.0.1 with a token, serving the student edition of the chapter; its URL."""
-    root = tmp_path_factory.mktemp("lab")
-    nbformat.write(student_edition(nbformat.read(ROOT / "notebooks" / CHAPTER, as_version=4)), root / CHAPTER)
+    built = tmp_path_factory.mktemp("student")
+    build_assignment(ROOT / "notebooks" / CHAPTER, built)  # the student edition, as make student writes it
+    root = built / "notebooks"
     token, port = secrets.token_hex(16), _free_port()
     env = dict(os.environ, QUADLIB_PROGRESS="off", JUPYTER_CONFIG_DIR=str(root / ".config"))
     log = (root / "lab.log").open("w")
