@@ -1,5 +1,5 @@
-"""Helpers that exist only for teaching: averaging, histograms, plots, animations, progress bars, and
-the graded exercises."""
+"""Helpers that exist only for teaching: averaging, histograms, the one-number Kalman filter's flight and
+slider, plots, animations, progress bars, and the graded exercises."""
 
 from quadlib.progress import progress
 
@@ -11,6 +11,7 @@ from .cart_tuning import CartTuningTrial, cart_push_input, cart_tuning_trial
 from .display import rounding, show_source, span
 from .grading import Exercise, Mutation, exercises, mutation_run, try_answers
 from .histogram import belief_mean_std, gaussian_belief, gaussian_kernel, gaussian_likelihood, uniform_grid
+from .one_number import ClimbFlight, OneNumberTrial, climb_flight, one_number_trial
 from .plotting import covariance_ellipse, plot_consistency, plot_covariance_ellipse, plot_estimate, plot_innovations
 from .sigma_plots import plot_sigma_points
 from .tuning import (
@@ -27,9 +28,11 @@ from .tuning import (
 
 __all__ = [
     "CartTuningTrial",
+    "ClimbFlight",
     "ComplementaryTrial",
     "GateTrial",
     "KfTuningTrial",
+    "OneNumberTrial",
     "Exercise",
     "Mutation",
     "animate_quad2d",
@@ -40,10 +43,12 @@ __all__ = [
     "cart_push_input",
     "cart_speed_sensor",
     "cart_tuning_trial",
+    "climb_flight",
     "complementary_trial",
     "covariance_ellipse",
     "gate_trial",
     "kf_tuning_trial",
+    "one_number_trial",
     "plot_trial",
     "show_trial",
     "tuning_sliders",
