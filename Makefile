@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: book student student-notebooks grade test unit nbval lab lab-instructor serve benchmark lint clean
+.PHONY: book student student-notebooks handout grade test unit nbval lab lab-instructor serve benchmark lint clean
 
 $(STAMP): environment.txt pyproject.toml
 	@command -v $(PYTHON) >/dev/null 2>&1 || { echo "error: $(PYTHON) not found; run 'make PYTHON=/path/to/python3.11 ...'" >&2; exit 1; }
@@ -37,6 +37,21 @@ student: student-notebooks
 	MPLBACKEND=module://matplotlib_inline.backend_inline $(BIN)/sphinx-build -W --keep-going -q -b html \
 		-D nb_execution_mode=off book _build/student/html
 	@echo "Student notebooks: $(CURDIR)/_build/student/notebooks; book: $(CURDIR)/_build/student/html/index.html"
+
+# What to hand to students: quadlib, the data and the student edition, without the chapters' solutions
+handout: student-notebooks
+	rm -rf _build/handout
+	mkdir -p _build/handout/benchmarks
+	cp -r quadlib data pyproject.toml environment.txt LICENSE _build/handout/
+	cp -r benchmarks/results _build/handout/benchmarks/
+	cp -r _build/student/notebooks _build/handout/notebooks
+	find _build/handout -name __pycache__ -prune -exec rm -rf {} +
+	printf '%s\n' "# State estimation for drones: the student edition" "" \
+		"python3.11 -m venv .venv && .venv/bin/pip install -r environment.txt && .venv/bin/pip install --no-deps -e ." \
+		".venv/bin/jupyter lab notebooks" "" \
+		"Each exercise ends with grader.check(\"qN\"): it says whether your answer is set. Hand in the notebook." \
+		> _build/handout/README.md
+	@echo "Hand-out: $(CURDIR)/_build/handout (zip it, or put it in a repository of its own)"
 
 # make grade SUBMISSIONS=folder [CELL_TIMEOUT=120] [SUBMISSION_TIMEOUT=1200]: grade every submitted
 # notebook with the instructor's tests, write folder/scores.csv
