@@ -1,7 +1,7 @@
 """Textbook filters in plain numpy, line by line after Tellex et al. Algorithms 2 and 3.
 
-These functions are for reading and for checking. Chapters 06–07 show them next to the printed
-pseudocode, and the tests prove that quadlib's filterpy wrappers give the same numbers. For real
+These functions are for reading and for checking. Chapter 06 shows the Kalman filter's next to the
+printed pseudocode, and the tests prove that quadlib's filterpy wrappers give the same numbers. For real
 work use :class:`~quadlib.filters.ModelEKF` and :class:`~quadlib.filters.ModelUKF`, which add
 input checks, gating, angle residuals and multi-rate replay.
 
@@ -9,8 +9,8 @@ Each function takes a :class:`~quadlib.model.Model` or :class:`~quadlib.model.Se
 arrays, and returns new arrays: a mean of shape ``(n,)`` and a covariance ``(n, n)``. The Kalman
 filter's two steps use the book's letters (chapter 00): estimate ``x``, ``P``; prior ``x_bar``,
 ``P_bar``; Jacobians ``G``, ``H``; innovation ``y``, its covariance ``S``; gain ``K``. The UKF's keep
-the source's ``mu``, ``Sigma`` (Tellex's μ, Σ for the same mean and covariance), as chapter 07 quotes
-them beside Algorithm 3. The corrections of the errata appendix are applied (E2/E3 in Algorithm 2;
+the source's ``mu``, ``Sigma`` (Tellex's μ, Σ for the same mean and covariance), to be read beside
+Algorithm 3 as printed (chapter 07 writes its own, in the book's letters). The corrections of the errata appendix are applied (E2/E3 in Algorithm 2;
 E5–E7 in Algorithm 3).
 """
 
