@@ -39,7 +39,7 @@ from quadlib.sim.imu import imu_samples
 from quadlib.sim.simulate import with_dropouts, with_outage, with_outliers
 from quadlib.validation import as_count, as_positive, as_probability
 
-__all__ = ["ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
+__all__ = ["LABELS", "ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
            "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
 
 KF_TRUE_SIGMAS = (0.3, 0.1)  # the 1D quadrotor's true σ_w [m/s²] and σ_r [m] (chapters 06 and 08)
@@ -150,14 +150,17 @@ class ComplementaryTrial:
         return f"τ = {self.tau:.3g} s on the {self.flight} square{bias}: RMS error roll {roll:.2f}°, pitch {pitch:.2f}°"
 
     def draw(self, fig) -> None:
-        """Roll and pitch against the truth, side by side on ``fig``."""
+        """Roll and pitch against the truth, side by side on ``fig``, one legend above them."""
         axes = fig.subplots(1, 2, sharey=True)
         for ax, i, name in zip(axes, (0, 1), ("roll", "pitch"), strict=True):
             ax.plot(self.t, np.degrees(self.truth[:, i]), "k", lw=1, label="truth")
-            ax.plot(self.t, np.degrees(self.estimate[:, i]), "C0", lw=1, label=f"τ = {self.tau:.3g} s")
+            ax.plot(self.t, np.degrees(self.estimate[:, i]), "C0", lw=1, label=f"estimate, τ = {self.tau:.3g} s")
             ax.set_xlabel("t [s]")
             ax.set_ylabel(f"{name} [deg]")
-            ax.legend(fontsize="small", loc="upper right")
+        bias = ", gyro biased" if self.gyro_bias else ""
+        fig.suptitle(f"The complementary filter's roll and pitch on the {self.flight} square{bias}", fontsize="medium")
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside upper right", ncol=2, fontsize="small", frameon=False)
 
 
 FLIGHTS = {"slow": dict(leg_s=8.0, turn_s=2.0), "fast": dict(leg_s=3.0, turn_s=2.0)}  # chapter 10's squares
@@ -261,25 +264,42 @@ def show_trial(trial) -> None:
         display(fig)
 
 
+LABELS = {
+    "sigma_w": "assumed σ_w [m/s²]", "true_sigma_w": "true σ_w [m/s²]", "sigma_r": "assumed σ_r [m]",
+    "sigma_p": "assumed σ_p [m]", "sigma_v": "assumed σ_v [m/s]", "sigma_q": "assumed σ_q [m]",
+    "x0": "first guess x₀ [m]", "sigma0": "its σ₀ [m]", "tau": "time constant τ [s]", "flight": "flight",
+    "gyro_bias": "gyro bias", "gate_probability": "gate probability",
+}
+"""The controls' labels, by the trial functions' argument names (a name not listed is shown as it is)."""
+
+
 def tuning_sliders(trial_function, **sliders):
-    """Sliders (ipywidgets) that rerun ``trial_function(**values)`` and show the result when a
-    slider is released. Each slider is ``(low, high)`` for a logarithmic scale, or a list of
-    options; the first value shown is the geometric middle, or the first option. In Jupyter the
-    returned widget displays itself; outside a kernel it does nothing."""
+    """Controls (ipywidgets) that rerun ``trial_function(**values)`` and show the result when one
+    is released. Each control is ``(low, high)`` for a slider on a logarithmic scale, starting at the
+    geometric middle; ``[False, True]`` (either order) for a checkbox; a list of up to four strings
+    for toggle buttons; any other list of options for a slider over them; each starts at its first
+    option. Labels come from :data:`LABELS`. In Jupyter the returned widget displays itself; outside
+    a kernel it does nothing."""
     import ipywidgets as widgets
 
     if not callable(trial_function):
         raise TypeError(f"trial_function: expected a callable, got {type(trial_function).__name__}")
     controls = {}
+    style, layout = {"description_width": "11em"}, widgets.Layout(width="34em")
     for name, spec in sliders.items():
+        label = LABELS.get(name, name)
         if isinstance(spec, tuple) and len(spec) == 2 and 0.0 < spec[0] < spec[1]:
             low, high = np.log10(spec[0]), np.log10(spec[1])
             controls[name] = widgets.FloatLogSlider(value=10 ** ((low + high) / 2), base=10, min=low, max=high,
-                                                    step=(high - low) / 40, description=name,
-                                                    continuous_update=False)
+                                                    step=(high - low) / 40, description=label, readout_format=".3g",
+                                                    continuous_update=False, style=style, layout=layout)
+        elif isinstance(spec, list) and len(spec) == 2 and set(map(type, spec)) == {bool} and spec[0] != spec[1]:
+            controls[name] = widgets.Checkbox(value=spec[0], description=label, indent=False)
+        elif isinstance(spec, list) and 0 < len(spec) <= 4 and all(isinstance(o, str) for o in spec):
+            controls[name] = widgets.ToggleButtons(options=spec, value=spec[0], description=label, style=style)
         elif isinstance(spec, list) and spec:
-            controls[name] = widgets.SelectionSlider(options=[(str(o), o) for o in spec], index=0,
-                                                     description=name, continuous_update=False)
+            controls[name] = widgets.SelectionSlider(options=[(str(o), o) for o in spec], index=0, description=label,
+                                                     continuous_update=False, style=style, layout=layout)
         else:
             raise ValueError(f"{name}: expected (low, high) with 0 < low < high, or a non-empty list, got {spec!r}")
     if not controls:

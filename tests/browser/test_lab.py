@@ -1,9 +1,10 @@
 """The chapters as a student meets them: JupyterLab and the book in headless Chromium.
 
-JupyterLab is started on 127.0.0.1 with a token, serving the student edition of chapter 10 (three
-sliders); Chromium, driven by Playwright, runs all its cells, moves each slider once and checks that
-the figure under it is drawn — not the nearly white PNG that a callback sharing pyplot's figure with
-another thread sends on a first move — against the chapter's static figure of the same experiment.
+JupyterLab is started on 127.0.0.1 with a token, serving the student edition of chapter 10 (a
+slider, toggle buttons and a checkbox); Chromium, driven by Playwright, runs all its cells, changes
+each control once and checks that the figure under them is drawn — not the nearly white PNG that a
+callback sharing pyplot's figure with another thread sends on a first move — against the chapter's
+static figure of the same experiment.
 Then the chapter's page of the book (built from the stored outputs) must show rendered mathematics
 and its solutions collapsed.
 
@@ -102,7 +103,7 @@ def lab(tmp_path_factory):
         log.close()
 
 
-def test_every_slider_draws_its_figure_on_the_first_move(lab, browser):
+def test_every_control_redraws_its_figure_on_the_first_change(lab, browser):
     page = browser.new_page(viewport={"width": 1400, "height": 1000})
     page.goto(lab)
     page.wait_for_function("window.jupyterapp && window.jupyterapp.shell.currentWidget && "
@@ -114,24 +115,27 @@ def test_every_slider_draws_its_figure_on_the_first_move(lab, browser):
     interact = page.locator(".widget-interact").first
     interact.wait_for(timeout=30_000)
     interact.scroll_into_view_if_needed()
-    sliders = interact.locator(".noUi-handle")
+    controls = interact.locator(".noUi-handle, input[type=checkbox], .widget-toggle-buttons button:nth-child(2)")
     below = page.locator("xpath=//div[contains(@class, 'jp-Cell')][.//div[contains(@class, 'widget-interact')]]"
                          "/following-sibling::div[contains(@class, 'jp-Cell')][1]//img").first
     below.wait_for(timeout=30_000)
-    static = _png(below.get_attribute("src"))  # the cell after the sliders: the same experiment at a fixed setting
-    assert sliders.count() >= 3 and _inked(static) > 0.05, "the chapter's sliders or its static figure are missing"
-    for i in range(sliders.count()):
+    static = _png(below.get_attribute("src"))  # the cell after the controls: the experiment at a fixed setting
+    assert controls.count() >= 3 and _inked(static) > 0.05, "the chapter's controls or its static figure are missing"
+    for i in range(controls.count()):
         before = interact.locator(".widget-output").inner_text()
-        handle = sliders.nth(i)
-        handle.scroll_into_view_if_needed()
-        handle.focus()
-        page.keyboard.press("ArrowRight")  # one step: the value is sent when the key is released
+        control = controls.nth(i)
+        control.scroll_into_view_if_needed()
+        if "noUi-handle" in (control.get_attribute("class") or ""):
+            control.focus()
+            page.keyboard.press("ArrowRight")  # one step of a slider: the value is sent when the key is released
+        else:
+            control.click()  # a checkbox, or a toggle button other than the one selected
         page.wait_for_function("([el, old]) => el.innerText !== old && el.querySelector('img')",
                                arg=[interact.locator(".widget-output").element_handle(), before], timeout=60_000)
         page.wait_for_function(IDLE, timeout=60_000)
         drawn = _png(interact.locator(".widget-output img").first.get_attribute("src"))
         assert len(drawn) > 0.3 * len(static) and _inked(drawn) > 0.5 * _inked(static), \
-            f"slider {i + 1}: the figure after its first move is blank ({len(drawn)} bytes, {_inked(drawn):.1%} inked)"
+            f"control {i + 1}: the figure after its first change is blank ({len(drawn)} bytes, {_inked(drawn):.0%} inked)"
     page.close()
 
 

@@ -90,6 +90,15 @@ def test_sliders_rerun_the_trial_with_the_values_set():
     assert seen[-1] == (pytest.approx(0.1), 0.99)
 
 
+def test_on_off_and_named_choices_get_checkboxes_and_buttons_with_readable_labels():
+    panel = tuning_sliders(lambda tau, flight, gyro_bias: gate_trial(None, n_flights=2), tau=(0.05, 50.0),
+                           flight=["fast", "slow"], gyro_bias=[False, True])
+    tau, flight, bias = panel.children[:3]
+    assert isinstance(tau, widgets.FloatLogSlider) and tau.description == "time constant τ [s]"
+    assert isinstance(flight, widgets.ToggleButtons) and flight.value == "fast"
+    assert isinstance(bias, widgets.Checkbox) and bias.value is False and bias.description == "gyro bias"
+
+
 @pytest.mark.parametrize("spec", [(1.0, 0.5), (0.0, 1.0), [], "ab", (1.0, 2.0, 3.0)])
 def test_a_malformed_slider_is_named(spec):
     with pytest.raises(ValueError, match="q: expected"):
