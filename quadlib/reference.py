@@ -10,8 +10,8 @@ arrays, and returns new arrays: a mean of shape ``(n,)`` and a covariance ``(n, 
 filter's two steps use the book's letters (chapter 00): estimate ``x``, ``P``; prior ``x_bar``,
 ``P_bar``; Jacobians ``G``, ``H``; innovation ``y``, its covariance ``S``; gain ``K``. The UKF's keep
 the source's ``mu``, ``Sigma`` (Tellex's μ, Σ for the same mean and covariance), to be read beside
-Algorithm 3 as printed (chapter 07 writes its own, in the book's letters). The corrections of the errata appendix are applied (E2/E3 in Algorithm 2;
-E5–E7 in Algorithm 3).
+Algorithm 3 as printed (chapter 07 writes its own, in the book's letters). The corrections of the
+errata appendix are applied (E2/E3 in Algorithm 2; E5–E7 in Algorithm 3).
 """
 
 from __future__ import annotations

@@ -135,7 +135,7 @@ def test_every_control_redraws_its_figure_on_the_first_change(lab, browser):
         page.wait_for_function(IDLE, timeout=60_000)
         drawn = _png(interact.locator(".widget-output img").first.get_attribute("src"))
         assert len(drawn) > 0.3 * len(static) and _inked(drawn) > 0.5 * _inked(static), \
-            f"control {i + 1}: the figure after its first change is blank ({len(drawn)} bytes, {_inked(drawn):.0%} inked)"
+            f"control {i + 1}: its first change drew a blank figure ({len(drawn)} bytes, {_inked(drawn):.0%} inked)"
     page.close()
 
 
