@@ -33,4 +33,17 @@ from quadlib.samples import Measurements, Samples
 __version__ = "0.1.0"
 
 __all__ = ["FilterDivergedError", "FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF",
-           "ModelFilter", "ModelUKF", "Samples", "Sensor", "SensorTrace", "rts_smooth", "run_filter"]
+           "ModelFilter", "ModelUKF", "Samples", "Sensor", "SensorTrace", "estimate_ins", "estimate_orientation",
+           "rts_smooth", "run_filter"]
+
+# The two one-call estimators, for engineers: imported on first use, so that ``import quadlib``
+# stays light (they pull in the attitude and navigation subpackages).
+_ESTIMATORS = {"estimate_orientation": "quadlib.attitude", "estimate_ins": "quadlib.nav"}
+
+
+def __getattr__(name: str):
+    if name in _ESTIMATORS:
+        import importlib
+
+        return getattr(importlib.import_module(_ESTIMATORS[name]), name)
+    raise AttributeError(f"module 'quadlib' has no attribute {name!r}")
