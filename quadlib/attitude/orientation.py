@@ -34,6 +34,7 @@ from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream
 from quadlib.model import Sensor
 from quadlib.model_filter import gate_threshold
+from quadlib.plausibility import check_imu_units, warn_unused
 from quadlib.replay import FilterRun, SensorTrace, held_inputs, rts_smooth, run_filter
 from quadlib.samples import Measurements, repeats_a_time
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
@@ -297,13 +298,17 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
             raise TypeError("gyr, acc, mag: expected none of them with an ImuLog as t, got "
                             f"{[k for k, v in (('gyr', gyr), ('acc', acc), ('mag', mag)) if v is not None]}")
         log = t
+        names = ("t.t", "t.gyro", "t.accel")
     else:
         t = as_times("t", t)
         n = t.size
         log = ImuLog(t, as_imu_stream("gyr", gyr, n), as_imu_stream("acc", acc, n),
                      as_imu_stream("mag", mag, n, required=False))
+        names = ("t", "gyr", "acc")
+    check_imu_units(log.t, log.gyro, log.accel, names)
     run = orientation_run(log, OrientationParams() if params is None else params, offline=offline,
                           declination_rad=declination_rad)
+    warn_unused(run.sensors)
     return run.x[:, :4]
 
 

@@ -51,6 +51,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import group_gates
 from quadlib.nav import compiled
+from quadlib.plausibility import check_gps_metres, check_imu_units, warn_unused
 from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples, time_resolution
 from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
@@ -358,6 +359,8 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
                          "optimal forward gain, which the tilt-aware consider update is not), got "
                          "InsParams(heading_tilt_aware=True)")
     declination_rad = as_finite_number("declination_rad", declination_rad)
+    check_imu_units(log.t, log.gyro, log.accel, names=("log.t", "log.gyro", "log.accel"))
+    check_gps_metres(gps.t, gps.z)
     t, u = imu_blocks(log, decimate)
     gps = Samples(gps.t - params.gps_delay_s, gps.z)
     fixes = np.flatnonzero(~np.isnan(gps.z).any(axis=1) & (gps.t >= t[0]) & (gps.t <= t[-1]))
@@ -395,11 +398,12 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
                                  gyro_bias_errors=GYRO_BIAS_ERRORS, tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
-    if compiled:
-        run = _compiled_run(ekf, t, u, measurements, params, decimate)
-        if run is not None:
-            return _compiled_smooth(run, u, params, decimate) if offline else run
+    run = _compiled_run(ekf, t, u, measurements, params, decimate) if compiled else None
+    if run is not None:
+        warn_unused(run.sensors)
+        return _compiled_smooth(run, u, params, decimate) if offline else run
     run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
+    warn_unused(run.sensors)
     return rts_smooth(model, run, u) if offline else run
 
 

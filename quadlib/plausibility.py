@@ -1,0 +1,123 @@
+"""Physics checks on a log before a one-call estimator filters it: units, and a sensor left unused.
+
+A wrong unit does not crash a filter: an accelerometer in g has every gravity update rejected and
+the attitude drifts on the gyro alone; a clock in milliseconds or a gyro in °/s turns the attitude
+a thousand or fifty-seven times too far. These checks look at what the data say about themselves
+and name the caller's argument, the unit expected and what was seen:
+
+* the median interval between samples lies in [1e-4 s, 1 s] (ms and µs are named);
+* the median accelerometer norm is near g₀ = 9.81 m/s² (a norm near 1 is "g, not m/s²");
+* the gyro turns the accelerometer's direction as fast as that direction turns: for a specific
+  force steady in the earth frame, ``d f_b/dt = −ω × f_b``; the least-squares scale between the
+  two is 1 for rad/s and 1/57.3 for °/s (checked only when the log turns enough to tell);
+* GPS positions that barely move while its velocities carry the vehicle metres away are degrees
+  of latitude and longitude, not metres.
+
+:func:`warn_unused` warns after a run when the gate rejected over 99 % of a sensor's samples.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from quadlib.constants import G0
+
+__all__ = ["check_gps_metres", "check_imu_units", "warn_unused"]
+
+
+def check_imu_units(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, names=("t", "gyr", "acc")) -> None:
+    """Raise ``ValueError`` naming ``names`` when the time, gyro or accelerometer units look wrong.
+
+    ``t`` (N,) [s], ``gyro`` (N, 3) [rad/s], ``accel`` (N, 3) [m/s²]; NaN rows are ignored.
+    """
+    t_name, gyro_name, accel_name = names
+    if t.size > 1:
+        dt = float(np.median(np.diff(t)))
+        if not 1e-4 <= dt <= 1.0:
+            guess = " (it looks like ms)" if 0.5 <= dt < 100.0 else " (it looks like µs)" if 100.0 <= dt <= 1e5 else ""
+            raise ValueError(f"{t_name}: expected times in seconds with a median interval between 1e-4 s and 1 s, "
+                             f"got a median interval of {dt:.6g}{guess}")
+    norm = np.linalg.norm(accel, axis=1)
+    norm = norm[np.isfinite(norm)]
+    if norm.size:
+        median = float(np.median(norm))
+        if 0.5 <= median <= 2.0:
+            raise ValueError(f"{accel_name}: expected specific force in m/s² (median norm near {G0:.2f}), got a "
+                             f"median norm of {median:.3f}: it looks like g; multiply by {G0}")
+        if not 0.5 * G0 <= median <= 2.0 * G0:
+            raise ValueError(f"{accel_name}: expected specific force in m/s² (median norm near {G0:.2f}), got a "
+                             f"median norm of {median:.4g}")
+    ratio = degrees_likelier(t, gyro, accel)
+    if ratio is not None and ratio > 2.0:
+        raise ValueError(f"{gyro_name}: expected rates in rad/s, got rates that turn {accel_name}'s direction "
+                         f"{ratio:.0f} times worse than the same numbers read as °/s: multiply by π/180")
+
+
+def _turned(u: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """``exp(−[θ]×) u`` row by row (Rodrigues): a body-frame direction after the body turned by θ."""
+    angle = np.linalg.norm(theta, axis=1, keepdims=True)
+    axis = theta / np.where(angle > 0, angle, 1.0)
+    c, s_ = np.cos(angle), np.sin(angle)
+    return u * c - np.cross(axis, u) * s_ + axis * np.sum(axis * u, axis=1, keepdims=True) * (1 - c)
+
+
+def degrees_likelier(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, window_s: float = 0.2,
+                     min_turn_rad: float = 0.1) -> float | None:
+    """How much better the accelerometer's direction follows the gyro read as °/s than as rad/s.
+
+    Over windows of ``window_s`` whose ends are calm (norm within 5 % of g₀) and over which the gyro,
+    read as given, turns by more than ``min_turn_rad`` (where the two readings differ), the direction at the
+    end is predicted from the start turned by the gyro's integral, read once as given and once
+    times π/180; the result is the ratio of the two median prediction errors (given over scaled):
+    well above 1 when the gyro is in °/s. None with fewer than 50 usable windows.
+    """
+    if t.size < 3:
+        return None
+    step = max(1, int(round(window_s / max(float(np.median(np.diff(t))), 1e-9))))
+    norm = np.linalg.norm(accel, axis=1, keepdims=True)
+    calm = np.abs(norm[:, 0] - G0) < 0.05 * G0
+    rates = np.where(np.isfinite(gyro), gyro, 0.0) * np.r_[np.diff(t), 0.0][:, None]
+    integral = np.vstack([np.zeros((1, 3)), np.cumsum(rates, axis=0)])
+    k = np.arange(0, t.size - step, max(1, step // 4))
+    theta = integral[k + step] - integral[k]
+    keep = calm[k] & calm[k + step] & (np.linalg.norm(theta, axis=1) > min_turn_rad)
+    k, theta = k[keep], theta[keep]
+    if k.size < 50:
+        return None
+    u = accel / np.where(norm > 0, norm, np.nan)
+    errors = [np.median(np.linalg.norm(u[k + step] - _turned(u[k], scale * theta), axis=1))
+              for scale in (1.0, np.pi / 180.0)]
+    return float(errors[0] / max(errors[1], 1e-12))
+
+
+def check_gps_metres(gps_t: np.ndarray, gps: np.ndarray, name: str = "gps") -> None:
+    """Raise ``ValueError`` naming ``name`` when ``[pn, pe, pd, vn, ve, vd]`` fixes hold degrees.
+
+    The test: the velocities, integrated over the log, carry the vehicle over 10 m horizontally,
+    while the horizontal positions change by under 1 % of that.
+    """
+    ok = np.isfinite(gps).all(axis=1)
+    if ok.sum() < 3:
+        return
+    t, z = gps_t[ok], gps[ok]
+    travelled = np.cumsum(z[1:, 3:5] * np.diff(t)[:, None], axis=0)
+    by_velocity = float(np.max(np.linalg.norm(travelled, axis=1)))
+    by_position = float(np.max(np.linalg.norm(z[:, :2] - z[0, :2], axis=1)))
+    if by_velocity > 10.0 and by_position < 0.01 * by_velocity:
+        raise ValueError(f"{name}: expected NED positions [m] about a reference point, got positions that move "
+                         f"{by_position:.3g} while the velocities move {by_velocity:.0f} m (latitude and longitude "
+                         "in degrees? convert with quadlib.geometry.geodetic_to_ned)")
+
+
+def warn_unused(sensors: dict, fraction: float = 0.01) -> None:
+    """Warn for each sensor trace with at least 100 samples offered to the filter (present and
+    plausible) of which under ``fraction`` were used: the χ² gate rejected the rest, which a wrong
+    unit, frame or declination does."""
+    for name, trace in sensors.items():
+        offered = int(trace.t.size - np.sum(trace.duplicate | trace.missing))
+        used = int(np.sum(trace.used))
+        if offered >= 100 and used < fraction * offered:
+            warnings.warn(f"{name}: used {used} of the {offered} samples offered ({int(np.sum(trace.rejected))} "
+                          "rejected by the χ² gate); check its units, frame and the declination", stacklevel=3)
