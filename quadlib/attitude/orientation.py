@@ -240,6 +240,16 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
     return rest
 
 
+def _held_rows(values: np.ndarray) -> np.ndarray:
+    """``values`` with each row that holds a NaN replaced by the last complete row before it
+    (zeros before the first): a missing gyro sample turns the frame as the one before it did."""
+    complete = ~np.isnan(values).any(axis=1)
+    if complete.all():
+        return values
+    last = np.maximum.accumulate(np.where(complete, np.arange(len(values)), -1))
+    return np.where((last >= 0)[:, None], values[np.maximum(last, 0)], 0.0)
+
+
 def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: float | None = None,
                      two_sided: bool = False) -> np.ndarray:
     """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
@@ -250,8 +260,9 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: floa
     ``R(q_I)ᵀ ā_I``. Gravity is constant in that frame and passes; a translation's accelerations
     average out, since its velocity stays bounded (VQF's idea, Laidig & Seel 2023, §3). The
     gyro's drift blurs the result: a bias ``b`` tilts the average by about ``|b| τ``, so
-    ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. Missing samples hold
-    the average, and so do samples whose norm is more than ``shock_m_s2`` off g₀: a shock or a tap
+    ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. A missing gyro sample
+    (a NaN row) turns the frame at the rate before it. Missing accelerometer samples hold the
+    average, and so do samples whose norm is more than ``shock_m_s2`` off g₀: a shock or a tap
     lasts milliseconds but would shift the average for seconds.
 
     ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
@@ -264,7 +275,7 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, shock_m_s2: floa
     usable = ~np.isnan(log.accel).any(axis=1)
     if shock is not None:
         usable &= np.abs(np.linalg.norm(np.nan_to_num(log.accel), axis=1) - G0) <= shock
-    gyro = np.ascontiguousarray(gyro, dtype=float)
+    gyro = np.ascontiguousarray(_held_rows(gyro), dtype=float)
     forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, tau, False)
     if not two_sided:
         return forward
