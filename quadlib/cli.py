@@ -8,9 +8,10 @@ BROAD's optical truth).
 
 A CSV log has a header row and the columns ``t, gyr_x, gyr_y, gyr_z, acc_x, acc_y, acc_z`` and,
 optionally, ``mag_x, mag_y, mag_z``: time [s], gyro [rad/s], specific force [m/s²] and the
-magnetic field (any unit), in the sensor's FRD frame, one row per IMU sample, passed to the filter
-as :func:`quadlib.attitude.estimate_orientation` takes raw arrays (see its docstring for the
-gyro's timing); empty or NaN fields are missing samples.
+magnetic field (any unit), in the sensor's FRD frame, one row per IMU sample; the gyro row at
+``t`` is the rate over the interval that ends at ``t``, as
+:func:`quadlib.attitude.estimate_orientation` takes raw arrays; empty or NaN fields are missing
+samples.
 """
 
 from __future__ import annotations
@@ -57,7 +58,9 @@ def read_log(path: Path):
         col = {name: data[:, header.index(name)] for name in header if name}
         stack = lambda names: np.column_stack([col[n] for n in names])  # noqa: E731
         mag = stack(MAG_COLUMNS) if all(c in col for c in MAG_COLUMNS) else None
-        return ImuLog(col["t"], stack(CSV_COLUMNS[1:4]), stack(CSV_COLUMNS[4:7]), mag), None, None
+        gyro = stack(CSV_COLUMNS[1:4])  # each rate moved to the row that starts its interval
+        gyro = np.vstack([gyro[1:], np.full((1, 3), np.nan)])
+        return ImuLog(col["t"], gyro, stack(CSV_COLUMNS[4:7]), mag), None, None
     raise ValueError(f"LOG: expected a .ulg, .px4log, .hdf5 or .csv file, got {path.name!r}")
 
 

@@ -10,6 +10,7 @@ and name the caller's argument, the unit expected and what was seen:
 * the gyro turns the accelerometer's direction as fast as that direction turns: for a specific
   force steady in the earth frame, ``d f_b/dt = −ω × f_b``; the least-squares scale between the
   two is 1 for rad/s and 1/57.3 for °/s (checked only when the log turns enough to tell);
+* the magnetometer's direction turns as the gyro says (a warning: an MPU-9250's swapped axes);
 * GPS positions that barely move while its velocities carry the vehicle metres away are degrees
   of latitude and longitude, not metres.
 
@@ -24,7 +25,7 @@ import numpy as np
 
 from quadlib.constants import G0
 
-__all__ = ["check_gps_metres", "check_imu_units", "warn_unused"]
+__all__ = ["check_gps_metres", "check_imu_units", "check_mag_frame", "warn_unused"]
 
 
 def check_imu_units(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, names=("t", "gyr", "acc")) -> None:
@@ -63,33 +64,53 @@ def _turned(u: np.ndarray, theta: np.ndarray) -> np.ndarray:
     return u * c - np.cross(axis, u) * s_ + axis * np.sum(axis * u, axis=1, keepdims=True) * (1 - c)
 
 
-def degrees_likelier(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, window_s: float = 0.2,
-                     min_turn_rad: float = 0.1) -> float | None:
-    """How much better the accelerometer's direction follows the gyro read as °/s than as rad/s.
-
-    Over windows of ``window_s`` whose ends are calm (norm within 5 % of g₀) and over which the gyro,
-    read as given, turns by more than ``min_turn_rad`` (where the two readings differ), the direction at the
-    end is predicted from the start turned by the gyro's integral, read once as given and once
-    times π/180; the result is the ratio of the two median prediction errors (given over scaled):
-    well above 1 when the gyro is in °/s. None with fewer than 50 usable windows.
-    """
+def _prediction_errors(t, gyro, vectors, usable, scales, window_s: float = 0.2, min_turn_rad: float = 0.1):
+    """Median error of predicting a body-frame direction ``window_s`` ahead by turning it with the
+    gyro's integral times each of ``scales`` (0: not turned), over windows whose ends are
+    ``usable`` and over which the gyro as given turns by more than ``min_turn_rad`` (where the
+    readings differ); None with fewer than 50 such windows."""
     if t.size < 3:
         return None
     step = max(1, int(round(window_s / max(float(np.median(np.diff(t))), 1e-9))))
-    norm = np.linalg.norm(accel, axis=1, keepdims=True)
-    calm = np.abs(norm[:, 0] - G0) < 0.05 * G0
     rates = np.where(np.isfinite(gyro), gyro, 0.0) * np.r_[np.diff(t), 0.0][:, None]
     integral = np.vstack([np.zeros((1, 3)), np.cumsum(rates, axis=0)])
     k = np.arange(0, t.size - step, max(1, step // 4))
     theta = integral[k + step] - integral[k]
-    keep = calm[k] & calm[k + step] & (np.linalg.norm(theta, axis=1) > min_turn_rad)
+    keep = usable[k] & usable[k + step] & (np.linalg.norm(theta, axis=1) > min_turn_rad)
     k, theta = k[keep], theta[keep]
     if k.size < 50:
         return None
-    u = accel / np.where(norm > 0, norm, np.nan)
-    errors = [np.median(np.linalg.norm(u[k + step] - _turned(u[k], scale * theta), axis=1))
-              for scale in (1.0, np.pi / 180.0)]
-    return float(errors[0] / max(errors[1], 1e-12))
+    u = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
+    return [float(np.median(np.linalg.norm(u[k + step] - _turned(u[k], scale * theta), axis=1))) for scale in scales]
+
+
+def degrees_likelier(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray) -> float | None:
+    """How much better the accelerometer's direction follows the gyro read as °/s than as rad/s:
+    the ratio of the two prediction errors (:func:`_prediction_errors`, on samples whose norm is
+    within 5 % of g₀), well above 1 when the gyro is in °/s; None when the log turns too little."""
+    calm = np.abs(np.linalg.norm(accel, axis=1) - G0) < 0.05 * G0
+    errors = _prediction_errors(t, gyro, accel, calm, (1.0, np.pi / 180.0))
+    return None if errors is None else errors[0] / max(errors[1], 1e-12)
+
+
+def field_follows_gyro(t: np.ndarray, gyro: np.ndarray, mag: np.ndarray) -> float | None:
+    """The magnetometer's direction predicted by the gyro, against not turned at all: the ratio of
+    the two errors (:func:`_prediction_errors`), well below 1 for a magnetometer in the gyro's frame
+    and near or above 1 when its axes are swapped or in another frame; None when the log turns too
+    little."""
+    errors = _prediction_errors(t, gyro, mag, np.isfinite(mag).all(axis=1), (1.0, 0.0))
+    return None if errors is None else errors[0] / max(errors[1], 1e-12)
+
+
+def check_mag_frame(t: np.ndarray, gyro: np.ndarray, mag: np.ndarray, names=("mag", "gyr")) -> None:
+    """Warn when the magnetometer's direction does not turn as the gyro says
+    (:func:`field_follows_gyro` above 1): its axes are swapped or in another frame (an MPU-9250's
+    magnetometer has x and y swapped and z reversed against its gyro), or a magnet turns with it."""
+    ratio = field_follows_gyro(t, gyro, mag)
+    if ratio is not None and ratio > 1.0:
+        warnings.warn(f"{names[0]}: expected a field in {names[1]}'s frame, got a field whose direction the gyro "
+                      f"predicts {ratio:.2f} times worse than not turning it at all (axes swapped, or another frame?)",
+                      stacklevel=3)
 
 
 def check_gps_metres(gps_t: np.ndarray, gps: np.ndarray, name: str = "gps") -> None:

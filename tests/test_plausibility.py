@@ -104,8 +104,21 @@ def test_a_sensor_left_unused_is_reported():
         warn_unused({"gravity": used, "zero rate": at_rest_only})
 
 
-def test_a_declination_the_gate_refuses_is_reported():
-    q = estimate_orientation(T, GYR, ACC, MAG)
-    assert q.shape == (N, 4)
-    with pytest.warns(UserWarning, match=r"^heading: used \d+ of the \d+ samples offered"):
-        estimate_orientation(T, GYR, ACC, MAG, declination_rad=np.radians(60.0))
+def test_a_magnetometer_in_another_frame_is_reported():
+    swapped = MAG[:, [1, 0, 2]] * np.array([1.0, 1.0, -1.0])  # an MPU-9250's magnetometer against its gyro
+    with pytest.warns(UserWarning, match=r"^mag: expected a field in gyr's frame"):
+        estimate_orientation(T, GYR, ACC, swapped)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        estimate_orientation(T, GYR, ACC, MAG)
+
+
+def test_every_shipped_magnetometer_follows_its_gyro():
+    from quadlib.data import broad_trial_names
+    from quadlib.plausibility import field_follows_gyro
+
+    for name in broad_trial_names():
+        log = load_broad_trial(name).log
+        assert field_follows_gyro(log.t, log.gyro, log.mag) < 1.0, name
+        swapped = log.mag[:, [1, 0, 2]] * np.array([1.0, 1.0, -1.0])
+        assert field_follows_gyro(log.t, log.gyro, swapped) > 1.0, name

@@ -28,13 +28,13 @@ from quadlib.compiled_kernels import corrected_mask
 from quadlib.constants import G0, GRAVITY_N
 from quadlib.filters import ModelEKF
 from quadlib.geometry import kernels
-from quadlib.geometry.quaternion import quat_to_dcm
+from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream
 from quadlib.model import Sensor
 from quadlib.model_filter import gate_threshold
-from quadlib.plausibility import check_imu_units, warn_unused
+from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, SensorTrace, held_inputs, rts_smooth, run_filter
 from quadlib.samples import Measurements, repeats_a_time
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
@@ -240,6 +240,35 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
     return rest
 
 
+def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(q_nb, field_n)``: where the filter starts, and the field in NED it checks readings against.
+
+    From the first sample with an accelerometer and a magnetometer reading that give an attitude
+    (:func:`~quadlib.geometry.attitude_from_accel_mag`), turned about the down axis by the
+    declination so that yaw is from true north. Without a magnetometer reading that does
+    (none at all, all NaN, or every one along gravity), from the first accelerometer reading
+    alone, with body x (or y, when x points along gravity) starting north: any mounting, upside
+    down included; ``field_n`` is then None.
+    """
+    accel_ok = np.isfinite(log.accel).all(axis=1) & (np.linalg.norm(np.nan_to_num(log.accel), axis=1) > 2.0)
+    if not accel_ok.any():
+        raise ValueError("log.accel: expected at least one finite reading of the specific force, got none")
+    turn = np.array([np.cos(declination_rad / 2), 0.0, 0.0, np.sin(declination_rad / 2)])
+    if log.mag is not None:
+        rows = np.flatnonzero(accel_ok & np.isfinite(log.mag).all(axis=1))
+        for chunk in range(0, rows.size, 1000):
+            k = rows[chunk:chunk + 1000]
+            start = attitude_from_accel_mag(log.accel[k], log.mag[k])
+            if start.valid.any():
+                first = int(np.argmax(start.valid))
+                q_magnetic = start.q_nb[first]
+                return quat_multiply(turn, q_magnetic), quat_to_dcm(q_magnetic) @ log.mag[k[first]]
+    f = log.accel[int(np.argmax(accel_ok))]
+    # tilt only: a "field" along body x (or y) fixes the unobservable yaw
+    axis = np.eye(3)[0 if abs(f[0]) < 0.9 * np.linalg.norm(f) else 1]
+    return attitude_from_accel_mag(f[None], axis[None]).q_nb[0], None
+
+
 def _held_rows(values: np.ndarray) -> np.ndarray:
     """``values`` with each row that holds a NaN replaced by the last complete row before it
     (zeros before the first): a missing gyro sample turns the frame as the one before it did."""
@@ -291,9 +320,13 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
     Parameters
     ----------
     t : (N,) array_like or ImuLog
-        Sample times [s]; or an :class:`~quadlib.imu.ImuLog`, and then no ``gyr``, ``acc``, ``mag``.
+        Sample times [s]; or an :class:`~quadlib.imu.ImuLog`, and then no ``gyr``, ``acc``, ``mag``
+        (its ``gyro[k]`` is the rate over ``[t[k], t[k+1])``, as the loaders give it).
     gyr, acc : (N, 3) array_like
         Gyro [rad/s] and accelerometer [m/s²] in the sensor frame; NaN rows are missing samples.
+        ``gyr[k]`` is the rate over the interval that *ends* at ``t[k]``, ``(t[k−1], t[k]]``, as
+        most IMUs, VQF and BROAD have it: each row is moved one earlier for the filter (the first
+        row's interval lies before the log and is not used).
     mag : (N, 3) array_like, optional
         Magnetometer (any unit: only its direction is used); without it the heading is the gyro's.
     params : OrientationParams, optional
@@ -313,10 +346,13 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
     else:
         t = as_times("t", t)
         n = t.size
-        log = ImuLog(t, as_imu_stream("gyr", gyr, n), as_imu_stream("acc", acc, n),
+        gyr = as_imu_stream("gyr", gyr, n)
+        log = ImuLog(t, np.vstack([gyr[1:], np.full((1, 3), np.nan)]), as_imu_stream("acc", acc, n),
                      as_imu_stream("mag", mag, n, required=False))
         names = ("t", "gyr", "acc")
     check_imu_units(log.t, log.gyro, log.accel, names)
+    if log.mag is not None:
+        check_mag_frame(log.t, log.gyro, log.mag, ("t.mag", "t.gyro") if names[0] == "t.t" else ("mag", "gyr"))
     run = orientation_run(log, OrientationParams() if params is None else params, offline=offline,
                           declination_rad=declination_rad)
     warn_unused(run.sensors)
@@ -365,17 +401,11 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
                       compiled: bool):
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
-    field_n = None
-    has_mag = log.mag is not None
     accel = np.where(good_a[:, None], gravity, np.nan)
+    q0, field_n = _initial_attitude(log, declination_rad)
+    has_mag = field_n is not None
     if has_mag:
-        start = attitude_from_accel_mag(np.nan_to_num(log.accel[:200]), np.nan_to_num(log.mag[:200]))
-        first = int(np.argmax(start.valid))
-        q0 = start.q_nb[first]
-        field_n = quat_to_dcm(q0) @ log.mag[first]
         good_m = plausible_mag(log.mag, gravity, field_n, checks)
-    else:
-        q0 = np.array([1.0, 0.0, 0.0, 0.0])
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
     model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s)

@@ -51,7 +51,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import group_gates
 from quadlib.nav import compiled
-from quadlib.plausibility import check_gps_metres, check_imu_units, warn_unused
+from quadlib.plausibility import check_gps_metres, check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples, time_resolution
 from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
@@ -286,17 +286,29 @@ def imu_blocks(log: ImuLog, decimate: int = 1) -> tuple[np.ndarray, np.ndarray]:
     return log.t[: m * decimate : decimate].copy(), u
 
 
+def _first_field(mag: np.ndarray, rows: int) -> np.ndarray | None:
+    """The mean magnetometer reading over the first ``rows`` rows, or, if they hold none, over the
+    first ``rows`` readings wherever they come; None without any reading."""
+    first = mag[:rows][np.isfinite(mag[:rows]).all(axis=1)]
+    if len(first):
+        return first.mean(axis=0)
+    readings = mag[np.isfinite(mag).all(axis=1)]
+    return readings[:rows].mean(axis=0) if len(readings) else None
+
+
 def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 0.0, n_average: int = 20) -> np.ndarray:
     """``x0``: the attitude from the mean of the first ``n_average`` accelerometer and magnetometer
     samples (Kesten eqs. 2.2–2.5, turned by the declination), the given position and velocity, biases
-    zero. Without a magnetometer the heading starts at north."""
+    zero. Without a magnetometer (or without a reading in the log) the heading starts at north."""
     log = as_instance("log", log, ImuLog)
     declination_rad = as_finite_number("declination_rad", declination_rad)
     if isinstance(n_average, bool) or not isinstance(n_average, (int, np.integer)) or not 1 <= n_average <= len(log):
         raise ValueError(f"n_average: expected an int in [1, {len(log)}], got {n_average!r}")
     f = np.nanmean(log.accel[:n_average], axis=0)
-    # without a magnetometer a "field" along body x: the body's heading is north
-    m = np.array([1.0, 0.0, 0.0]) if log.mag is None else np.nanmean(log.mag[:n_average * 5], axis=0)
+    # without a magnetometer reading a "field" along body x: the body's heading is north
+    m = np.array([1.0, 0.0, 0.0]) if log.mag is None else _first_field(log.mag, n_average * 5)
+    if m is None:
+        m = np.array([1.0, 0.0, 0.0])
     start = attitude_from_accel_mag(f[None], m[None])
     if not start.valid[0]:
         raise ValueError(f"log: expected the first {n_average} samples to give an attitude (gravity and a field not "
@@ -361,6 +373,8 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     declination_rad = as_finite_number("declination_rad", declination_rad)
     check_imu_units(log.t, log.gyro, log.accel, names=("log.t", "log.gyro", "log.accel"))
     check_gps_metres(gps.t, gps.z)
+    if log.mag is not None:
+        check_mag_frame(log.t, log.gyro, log.mag, ("log.mag", "log.gyro"))
     t, u = imu_blocks(log, decimate)
     gps = Samples(gps.t - params.gps_delay_s, gps.z)
     fixes = np.flatnonzero(~np.isnan(gps.z).any(axis=1) & (gps.t >= t[0]) & (gps.t <= t[-1]))
@@ -389,9 +403,10 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
             baro_offset_m = float(np.nanmean(zb[first])) + x0[9]
         offset = as_finite_number("baro_offset_m", baro_offset_m)
         measurements.append(Measurements(ins_baro_sensor(params.baro_sigma_m), tb, zb - offset))
-    if log.mag is not None:
-        mag_log = log.slice(start * decimate, (start + t.size - 1) * decimate + 1)  # t[0] … t[-1]
-        field_n = quat_to_dcm(x0[Q_]) @ np.nanmean(mag_log.mag[:100], axis=0)
+    mag_log = log.slice(start * decimate, (start + t.size - 1) * decimate + 1)  # t[0] … t[-1]
+    field_b = None if log.mag is None else _first_field(mag_log.mag, 100)
+    if field_b is not None:
+        field_n = quat_to_dcm(x0[Q_]) @ field_b
         good = plausible_mag(mag_log.mag, mag_log.accel, field_n, SensorChecks())
         mag = np.where(good[:, None], mag_log.mag, np.nan)
         # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal

@@ -79,12 +79,28 @@ def test_a_magnet_near_the_sensor_does_not_turn_the_heading():
     assert np.degrees(attitude_error(believed, MOTION.q_nb))[near].max() > 10.0  # the checks matter
 
 
-def test_arrays_and_a_log_give_the_same_estimate():
+def test_arrays_take_each_gyro_row_as_the_rate_before_its_time():
     noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(MOTION, noise, np.random.default_rng(4), field_n=FIELD).slice(0, 500)
-    q = estimate_orientation(log.t, log.gyro, log.accel, log.mag)
-    assert q.shape == (500, 4) and np.array_equal(q, estimate_orientation(log))
-    assert not np.array_equal(estimate_orientation(log.t, log.gyro, log.accel), q)  # no magnetometer: gyro heading
+    ending = np.vstack([np.zeros((1, 3)), log.gyro[:-1]])  # the same rates, stamped at the end of their interval
+    q = estimate_orientation(log.t, ending, log.accel, log.mag)
+    assert q.shape == (500, 4)
+    assert np.abs(q[:-1] - estimate_orientation(log)[:-1]).max() < 1e-12
+    assert not np.array_equal(estimate_orientation(log.t, ending, log.accel), q)  # no magnetometer: gyro heading
+
+
+def test_broad_raw_arrays_give_what_the_loader_gives():
+    import h5py
+
+    from quadlib.data import data_path
+
+    name = "07_undisturbed_fast_rotation_B"
+    with h5py.File(data_path(f"broad/{name}.hdf5"), "r") as f:
+        rate = float(f.attrs["sampling_rate"])
+        gyr, acc, mag = (np.asarray(f[k], dtype=float)[:20_000] for k in ("imu_gyr", "imu_acc", "imu_mag"))
+    q = estimate_orientation(np.arange(len(gyr)) / rate, gyr, acc, mag)
+    loaded = estimate_orientation(load_broad_trial(name).log.slice(0, 20_000))
+    assert np.abs(q - loaded).max() < 1e-12
 
 
 def test_the_smoother_beats_the_forward_filter_where_the_bias_was_unknown():

@@ -1,0 +1,59 @@
+"""Where the orientation filter starts: any magnetometer schedule, any mounting, any declination."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from quadlib.analysis import attitude_error, broad_errors
+from quadlib.attitude import orientation_run
+from quadlib.data import load_broad_trial
+from quadlib.geometry import quat_multiply
+
+TRIAL = load_broad_trial("02_undisturbed_slow_rotation_B")
+LOG = TRIAL.log.slice(0, 30_000)
+TRUTH, MOVING = TRIAL.q_nb[:30_000], TRIAL.movement[:30_000]
+BASE = orientation_run(LOG).x[:, :4]
+
+
+def _turn(angle):
+    return np.array([np.cos(angle / 2), 0.0, 0.0, np.sin(angle / 2)])
+
+
+@pytest.mark.parametrize("declination_deg", [40.0, 120.0, -170.0])
+def test_any_declination_turns_the_whole_estimate_about_down(declination_deg):
+    d = np.radians(declination_deg)
+    q = orientation_run(LOG, declination_rad=d).x[:, :4]
+    assert np.degrees(attitude_error(q, quat_multiply(_turn(d), BASE))).max() < 1e-6
+
+
+def _inclination_after(q, truth, seconds):
+    later = LOG.t >= seconds
+    return broad_errors(q[later], truth[later], MOVING[later])["inclination_deg"]
+
+
+@pytest.mark.parametrize("mag", ["none", "all NaN", "along gravity"])
+def test_without_a_usable_magnetometer_the_tilt_starts_from_the_accelerometer(mag):
+    field = {"none": None, "all NaN": np.full_like(LOG.mag, np.nan),
+             "along gravity": LOG.accel * 3.0}[mag]
+    q = orientation_run(replace(LOG, mag=field)).x[:, :4]
+    assert np.isfinite(q).all()
+    assert _inclination_after(q, TRUTH, 5.0) < 1.0
+
+
+def test_upside_down_without_a_magnetometer_converges_within_5_s():
+    flip = np.diag([1.0, -1.0, -1.0])  # the sensor mounted turned 180° about its x axis
+    log = replace(LOG, gyro=LOG.gyro @ flip.T, accel=LOG.accel @ flip.T, mag=None)
+    truth = quat_multiply(np.nan_to_num(TRUTH), np.array([0.0, -1.0, 0.0, 0.0]))
+    truth[np.isnan(TRUTH).any(axis=1)] = np.nan
+    run = orientation_run(log)
+    assert _inclination_after(run.x[:, :4], truth, 5.0) < 1.0
+    assert np.abs(run.x[-1, 4:]).max() < np.radians(1.0)  # no false gyro bias learnt
+
+
+def test_a_late_first_magnetometer_reading_starts_the_heading_there():
+    mag = LOG.mag.copy()
+    mag[:2_000] = np.nan  # seven seconds without the field
+    q = orientation_run(replace(LOG, mag=mag)).x[:, :4]
+    later = LOG.t >= 30.0
+    assert np.degrees(attitude_error(q[later], BASE[later])).max() < 0.5
