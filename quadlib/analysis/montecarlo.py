@@ -172,7 +172,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         return items if progress_label is None else progress(items, f"{progress_label}: {what}")
 
     truths, runs_samples = [], []
-    for _ in bar(range(int(n_runs)), "flights"):
+    for _ in bar(range(int(n_runs)), "simulating"):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
         truths.append(truth)
         samples = [sample_sensor(s, t, truth, rng) for s in sensors]
@@ -194,7 +194,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
                                             seen_runs, gate_probability)
         else:
             runs = [run_filter(first if i == 0 else make(x0, P0), t, u, seen, gate_probability=gate_probability)
-                    for i, seen in bar(list(enumerate(seen_runs)), name)]
+                    for i, seen in bar(list(enumerate(seen_runs)), f"filtering ({name})")]
             x, P = np.array([r.x for r in runs]), np.array([r.P for r in runs])
             nis = {key: np.array([r.sensors[key].nis for r in runs]) for key in runs[0].sensors}
             rejected = {key: np.array([int(r.sensors[key].rejected.sum()) for r in runs]) for key in runs[0].sensors}
