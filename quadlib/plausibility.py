@@ -34,6 +34,9 @@ def check_imu_units(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, names=("
     ``t`` (N,) [s], ``gyro`` (N, 3) [rad/s], ``accel`` (N, 3) [m/s²]; NaN rows are ignored.
     """
     t_name, gyro_name, accel_name = names
+    for name, values, what in ((gyro_name, gyro, "rate"), (accel_name, accel, "specific force")):
+        if not np.isfinite(values).all(axis=1).any():
+            raise ValueError(f"{name}: expected at least one finite {what} (a row without NaN), got none")
     if t.size > 1:
         dt = float(np.median(np.diff(t)))
         if not 1e-4 <= dt <= 1.0:

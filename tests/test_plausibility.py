@@ -122,3 +122,13 @@ def test_every_shipped_magnetometer_follows_its_gyro():
         assert field_follows_gyro(log.t, log.gyro, log.mag) < 1.0, name
         swapped = log.mag[:, [1, 0, 2]] * np.array([1.0, 1.0, -1.0])
         assert field_follows_gyro(log.t, log.gyro, swapped) > 1.0, name
+
+
+def test_streams_without_a_reading_are_named_and_a_late_first_gyro_reading_is_held_back():
+    with pytest.raises(ValueError, match=r"^gyr: expected at least one finite rate"):
+        estimate_orientation(T[:3000], np.full((3000, 3), np.nan), ACC[:3000], MAG[:3000])
+    with pytest.raises(ValueError, match=r"^acc: expected at least one finite specific force"):
+        estimate_orientation(T[:3000], GYR[:3000], np.full((3000, 3), np.nan), MAG[:3000])
+    late = GYR[:3000].copy()
+    late[:5] = np.nan
+    assert np.isfinite(estimate_orientation(T[:3000], late, ACC[:3000], MAG[:3000])).all()

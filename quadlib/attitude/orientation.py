@@ -17,7 +17,7 @@ magnetometer never touches it (see :func:`heading_sensor`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -351,6 +351,9 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
                      as_imu_stream("mag", mag, n, required=False))
         names = ("t", "gyr", "acc")
     check_imu_units(log.t, log.gyro, log.accel, names)
+    first = int(np.argmax(np.isfinite(log.gyro).all(axis=1)))
+    if first:  # no rate before the first reading: hold the first one back to the start
+        log = replace(log, gyro=np.vstack([np.repeat(log.gyro[first:first + 1], first, axis=0), log.gyro[first:]]))
     if log.mag is not None:
         check_mag_frame(log.t, log.gyro, log.mag, ("t.mag", "t.gyro") if names[0] == "t.t" else ("mag", "gyr"))
     run = orientation_run(log, OrientationParams() if params is None else params, offline=offline,
