@@ -24,6 +24,7 @@ scalar first, noise given as standard deviations, every random function takes a
 ``numpy.random.Generator``.
 """
 
+from quadlib import numba_cache  # noqa: F401  (first: it clears a stale numba cache before anything loads it)
 from quadlib.filters import LinearKF, ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import Innovation, ModelFilter

@@ -2,7 +2,8 @@
 :mod:`quadlib.geometry.kernels`), the Kalman update and the Cholesky factor of the sigma points.
 
 Every function here is plain arithmetic on small arrays, compiled by numba; the compiled filters
-(:mod:`quadlib.attitude.compiled_mekf`, :mod:`quadlib.fixedwing.compiled`, :mod:`quadlib.quad.compiled`)
+(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`, :mod:`quadlib.fixedwing.compiled`,
+:mod:`quadlib.quad.compiled`)
 are proved equal to their readable twins by their tests, and with them these kernels.
 """
 
@@ -14,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.imu import SATURATED
+from quadlib.constants import SATURATED
 
 __all__: list[str] = []  # internal: the compiled filters use these
 

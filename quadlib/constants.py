@@ -9,7 +9,7 @@ import numpy as np
 
 from quadlib.validation import as_finite_number, as_positive
 
-__all__ = ["G0", "GRAVITY_N", "earth_field_ned"]
+__all__ = ["G0", "GRAVITY_N", "SATURATED", "earth_field_ned"]
 
 G0 = 9.80665
 """Standard gravity g₀ [m/s²] (the value the sources and PX4 use)."""
@@ -17,6 +17,9 @@ G0 = 9.80665
 GRAVITY_N = np.array([0.0, 0.0, G0])
 """Gravity in NED [m/s²]: it points down, +z. An accelerometer at rest reads ``−R_nbᵀ GRAVITY_N``."""
 GRAVITY_N.setflags(write=False)
+
+SATURATED = 0.999
+"""A gyro sample within 0.1 % of the full scale counts as clipped (:func:`~quadlib.imu.saturated_step_variance`)."""
 
 
 def earth_field_ned(strength, inclination_rad, declination_rad=0.0) -> np.ndarray:

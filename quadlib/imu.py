@@ -18,6 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from quadlib.constants import SATURATED
+from quadlib.engine.kernel import Kernel
+from quadlib.kernels.attitude import gyro_saturation
 from quadlib.validation import as_float_array, as_positive, as_times, check_fields
 
 __all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_saturation_noise", "saturated_step_variance"]
@@ -61,8 +64,6 @@ class ImuNoise:
         check_fields(self, self.FIELDS)
 
 
-SATURATED = 0.999  # a sample within 0.1 % of the full scale counts as clipped
-
 
 def saturated_step_variance(gyro, dt: float, gyro_range_rad_s: float | None) -> float | None:
     """Variance per axis [rad²] of the unknown turn in a gyro step whose sample is saturated.
@@ -77,22 +78,17 @@ def saturated_step_variance(gyro, dt: float, gyro_range_rad_s: float | None) -> 
     return (gyro_range_rad_s * dt) ** 2
 
 
-def gyro_saturation_noise(gyro_range_rad_s: float | None, scale):
+def gyro_saturation_noise(gyro_range_rad_s: float | None, scale) -> Kernel | None:
     """A model's ``input_noise`` (:class:`~quadlib.Model`) for a gyro-driven step: in a saturated
     step, ``diag(scale) · v`` with ``v`` from :func:`saturated_step_variance` (``scale`` maps the
     per-axis angle variance onto the error state: 1 per rotation axis, ¼ per quaternion
-    component, 0 for states the gyro does not move). None without a range."""
+    component, 0 for states the gyro does not move). None without a range. The kernel
+    :func:`~quadlib.kernels.attitude.gyro_saturation`, which the compiled engine calls too."""
     if gyro_range_rad_s is None:
         return None
     gyro_range_rad_s = as_positive("gyro_range_rad_s", gyro_range_rad_s)
-    diagonal = np.diag(np.asarray(scale, dtype=float))
-
-    def input_noise(u, dt):
-        v = saturated_step_variance(u, dt, gyro_range_rad_s)
-        return None if v is None else v * diagonal
-
-    return input_noise
-
+    scale = np.asarray(scale, dtype=float).reshape(-1)
+    return Kernel("input_noise", gyro_saturation, [gyro_range_rad_s, scale.size, *scale])
 
 
 def as_imu_stream(name: str, value, n: int, width: int | None = 3, required: bool = True) -> np.ndarray | None:

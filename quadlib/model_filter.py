@@ -115,6 +115,23 @@ class ModelFilter:
                                                self.model.dim_P)
         return self._q
 
+    @property
+    def reused_noise(self) -> tuple[float, np.ndarray]:
+        """``(dt, Q(dt))``: the process noise the next predict reuses while its step stays within
+        a relative 1e-9 of ``dt``."""
+        return self._q_dt, self._q
+
+    def continue_from(self, x, P, reused_noise: tuple[float, np.ndarray]) -> None:
+        """Take the state ``x`` (the full state, ``(n,)``), the covariance ``P`` and the
+        :attr:`reused_noise` that a run elsewhere (the compiled engine) ended with, unchecked."""
+        x = np.array(x, dtype=float)
+        if self.nominal is not None:
+            self.nominal, self.x = x, np.zeros_like(self.x)
+        else:
+            self.x = x.reshape(self.x.shape)
+        self.P = np.array(P, dtype=float)
+        self._q_dt, self._q = reused_noise
+
     def state_view(self) -> np.ndarray:
         """The current state ``(n,)`` without a copy (read it, do not write it); see :attr:`estimate`."""
         return self.nominal if self.nominal is not None else self.x.reshape(-1)

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from quadlib.engine import runner
 from quadlib.model import Model
 from quadlib.model_filter import ModelFilter, group_gates
 from quadlib.samples import Measurements, time_resolution
@@ -75,6 +76,8 @@ class FilterRun:
     P : (N, p, p) posterior covariances at ``t`` (over the error state for an error-state model)
     sensors : dict of sensor name -> SensorTrace
     held_input : (N,) bool, ``u[k]`` was NaN and the previous input was used instead
+    engine : ``"compiled"`` when the compiled engine ran it (:mod:`quadlib.engine`), else ``"readable"``
+    engine_note : why the readable loop ran when the engine was allowed to ("" otherwise)
     """
 
     t: np.ndarray
@@ -82,6 +85,8 @@ class FilterRun:
     P: np.ndarray
     sensors: dict
     held_input: np.ndarray
+    engine: str = "readable"
+    engine_note: str = ""
 
     @property
     def sigma(self) -> np.ndarray:
@@ -120,6 +125,19 @@ def sample_steps(t: np.ndarray, grid_resolution: float, m: Measurements) -> tupl
     return np.searchsorted(t, m.t - tol, side="left"), m.missing & ~duplicate, duplicate
 
 
+def _event_order(per_sensor: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The updates ``(step, sensor, sample)`` as three arrays in the order :func:`run_filter` applies
+    them (by step, then sensor, then sample; present samples only), from each sensor's
+    :func:`sample_steps`."""
+    parts = [(steps[keep], np.full(keep.sum(), i), np.flatnonzero(keep))
+             for i, (steps, missing, duplicate) in enumerate(per_sensor) for keep in [~missing & ~duplicate]]
+    if not parts:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64)
+    steps, sensors, samples = (np.concatenate(a).astype(np.int64) for a in zip(*parts, strict=True))
+    order = np.lexsort((samples, sensors, steps))
+    return steps[order], sensors[order], samples[order]
+
+
 def compiled_schedule(filt, t, grid_resolution: float, measurements: list) -> tuple | None:
     """:func:`run_filter`'s schedule for a compiled twin of its loop: per sensor ``(steps, missing,
     duplicate)`` (:func:`sample_steps`), and the events ``(step, sensor, sample)`` as three arrays in
@@ -131,14 +149,19 @@ def compiled_schedule(filt, t, grid_resolution: float, measurements: list) -> tu
         if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
             return None
     per_sensor = [sample_steps(t, grid_resolution, m) for m in measurements]
-    steps, sensors, samples = (np.concatenate(a) for a in zip(*[
-        (s[~miss & ~dup], np.full((~miss & ~dup).sum(), i), np.flatnonzero(~miss & ~dup))
-        for i, (s, miss, dup) in enumerate(per_sensor)], strict=True))
-    order = np.lexsort((samples, sensors, steps))
-    return per_sensor, (steps[order], sensors[order], samples[order])
+    return per_sensor, _event_order(per_sensor)
 
 
-def run_filter(filt, t, u, measurements, gate_probability: float | None = None) -> FilterRun:
+ENGINES = ("auto", "compiled", "readable")
+
+
+def _as_engine(engine) -> str:
+    if not isinstance(engine, str) or engine not in ENGINES:
+        raise ValueError(f"engine: expected one of {ENGINES}, got {engine!r}")
+    return engine
+
+
+def run_filter(filt, t, u, measurements, gate_probability: float | None = None, engine: str = "auto") -> FilterRun:
     """Run ``filt`` over a log: predict at every input time, update at every sample.
 
     Parameters
@@ -155,6 +178,12 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     gate_probability : float in (0, 1), optional
         χ² gate on the NIS of each of a sensor's groups (see ``update_sensor``), with the timed
         reset of each sensor's ``reset_after_s``.
+    engine : {"auto", "compiled", "readable"}
+        ``"auto"`` runs the same steps on the compiled engine (:mod:`quadlib.engine`) when it can —
+        a :class:`~quadlib.ModelEKF` whose model and sensors hold only compiled kernels — and this
+        loop otherwise; ``run.engine`` says which ran, ``run.engine_note`` why not the engine.
+        ``"compiled"`` raises ``ValueError`` when the engine cannot run the filter; ``"readable"``
+        always runs this loop.
 
     Returns
     -------
@@ -162,6 +191,7 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     """
     if not isinstance(filt, ModelFilter):
         raise TypeError(f"filt: expected a LinearKF, ModelEKF or ModelUKF, got {type(filt).__name__}")
+    engine = _as_engine(engine)
     grid_resolution = time_resolution(t)
     t = as_times("t", t)
     N = t.shape[0]
@@ -186,65 +216,27 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     names = [m.sensor.name for m in measurements]
     if len(set(names)) != len(names):
         raise ValueError(f"measurements: expected one entry per sensor name, got {names}")
+    per_sensor = [sample_steps(t, grid_resolution, m) for m in measurements]
 
-    # Events (step index, sensor index, sample index), sorted by step then sensor order.
-    schedule: dict[int, list] = {}  # step -> the updates applied after its predict
-    missing, duplicate = [], []
-    for i, m in enumerate(measurements):
-        steps, miss, dup = sample_steps(t, grid_resolution, m)
-        missing.append(miss)
-        duplicate.append(dup)
-        gates = None if gate_probability is None or not m.sensor.gated else group_gates(m.sensor, gate_probability)
-        for j in np.flatnonzero(~miss & ~dup):
-            c = None if m.context is None else m.context[j]
-            schedule.setdefault(int(steps[j]), []).append((i, int(j), m.sensor, m.z[j], gates, c))
-    for updates in schedule.values():
-        updates.sort(key=lambda e: (e[0], e[1]))
-
-    # Everything was validated above, so the loop uses the filter's unchecked steps
-    # and the whole trajectory is checked for non-finite values once at the end.
-    xs, Ps = np.empty((N, model.dim_x)), np.empty((N, model.dim_P, model.dim_P))
-    inputs, dts = list(u), np.diff(t).tolist()
-    done = []  # (sensor index, sample index, Innovation)
-    locked_since = [[None] * len(m.sensor.groups) for m in measurements]  # per sensor and group
-    for k in range(N):
-        if k:
-            filt.predict_unchecked(inputs[k - 1], dts[k - 1])
-        for i, j, sensor, z, gates, c in schedule.get(k, ()):
-            inn = filt.update_unchecked(sensor, z, gates, c)
-            if inn.rejected_groups and sensor.reset_after_s is not None:
-                t_j = measurements[i].t[j]
-                since = locked_since[i]
-                expired = tuple(g for g in inn.rejected_groups
-                                if since[g] is not None and t_j - since[g] >= sensor.reset_after_s)
-                for g in inn.rejected_groups:
-                    since[g] = t_j if since[g] is None else since[g]
-                if expired:  # undo the partial update, widen P along the locked-out groups, use them
-                    filt.undo_last_update()
-                    filt.inflate_toward(sensor, z, expired, c)
-                    inn = filt.update_unchecked(sensor, z, gates, c, force=expired)._replace(reset=True)
-                    for g in expired:
-                        since[g] = None
-            if gates is not None:
-                for g in range(len(sensor.groups)):
-                    if g not in inn.rejected_groups:
-                        locked_since[i][g] = None
-            done.append((i, j, inn))
-        xs[k] = filt.state_view()  # copied into xs
-        Ps[k] = filt.P
-
-    traces = []
-    for i, m in enumerate(measurements):
-        K, kz = m.z.shape
-        traces.append(dict(innovation=np.full((K, kz), np.nan), S=np.full((K, kz, kz), np.nan),
-                           nis=np.full(K, np.nan), used=np.zeros(K, bool), rejected=np.zeros(K, bool),
-                           reset=np.zeros(K, bool), missing=missing[i], duplicate=duplicate[i]))
-    for i, j, inn in done:
-        tr = traces[i]
-        tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
-        tr["used"][j], tr["rejected"][j], tr["reset"][j] = inn.accepted, bool(inn.rejected_groups), inn.reset
-    sensors = {m.sensor.name: SensorTrace(t=m.t, **tr) for m, tr in zip(measurements, traces, strict=True)}
-    run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held)
+    note, records = "", None
+    if engine != "readable":
+        records = runner.plan(filt, measurements, gate_probability)
+        if isinstance(records, str):
+            if engine == "compiled":
+                raise ValueError(f"engine: expected a filter the compiled engine can run, got one it cannot: {records}")
+            note, records = records, None
+    compiled = records is not None and runner.forward(filt, records, t, u, measurements, per_sensor)
+    if compiled:
+        xs, Ps, traces = compiled
+    else:
+        if records is not None:
+            note = ("the compiled run raised or became non-finite, so the readable loop ran "
+                    "(and names the step where it fails)")
+        xs, Ps, traces = _run_readable(filt, t, u, measurements, per_sensor, gate_probability)
+    sensors = {m.sensor.name: SensorTrace(t=m.t, missing=miss, duplicate=dup, **tr)
+               for m, tr, (_, miss, dup) in zip(measurements, traces, per_sensor, strict=True)}
+    run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held,
+                    engine="compiled" if compiled else "readable", engine_note=note)
     bad = ~np.isfinite(xs).all(axis=1) | ~np.isfinite(Ps).all(axis=(1, 2))
     if bad.any():
         k = int(np.argmax(bad))
@@ -255,7 +247,57 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None) 
     return run
 
 
-def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
+def _run_readable(filt, t, u, measurements, per_sensor, gate_probability):
+    """The loop itself: every step through the filter's own predict and update."""
+    model, N = filt.model, t.shape[0]
+    traces = [dict(innovation=np.full((m.z.shape[0], m.sensor.dim_z), np.nan),
+                   S=np.full((m.z.shape[0], m.sensor.dim_z, m.sensor.dim_z), np.nan), nis=np.full(m.z.shape[0], np.nan),
+                   used=np.zeros(m.z.shape[0], bool), rejected=np.zeros(m.z.shape[0], bool),
+                   reset=np.zeros(m.z.shape[0], bool)) for m in measurements]
+    gates = [None if gate_probability is None or not m.sensor.gated else group_gates(m.sensor, gate_probability)
+             for m in measurements]
+    # Everything was validated above, so the loop uses the filter's unchecked steps
+    # and the whole trajectory is checked for non-finite values once at the end.
+    xs, Ps = np.empty((N, model.dim_x)), np.empty((N, model.dim_P, model.dim_P))
+    inputs, dts = list(u), np.diff(t).tolist()
+    steps, sensor_of, sample_of = (a.tolist() for a in _event_order(per_sensor))  # by step, sensor, sample
+    locked_since = [[None] * len(m.sensor.groups) for m in measurements]  # per sensor and group
+    e, E = 0, len(steps)
+    for k in range(N):
+        if k:
+            filt.predict_unchecked(inputs[k - 1], dts[k - 1])
+        while e < E and steps[e] == k:
+            i, j = sensor_of[e], sample_of[e]
+            m, g_i = measurements[i], gates[i]
+            sensor, z, c = m.sensor, m.z[j], None if m.context is None else m.context[j]
+            inn = filt.update_unchecked(sensor, z, g_i, c)
+            if inn.rejected_groups and sensor.reset_after_s is not None:
+                t_j = m.t[j]
+                since = locked_since[i]
+                expired = tuple(g for g in inn.rejected_groups
+                                if since[g] is not None and t_j - since[g] >= sensor.reset_after_s)
+                for g in inn.rejected_groups:
+                    since[g] = t_j if since[g] is None else since[g]
+                if expired:  # undo the partial update, widen P along the locked-out groups, use them
+                    filt.undo_last_update()
+                    filt.inflate_toward(sensor, z, expired, c)
+                    inn = filt.update_unchecked(sensor, z, g_i, c, force=expired)._replace(reset=True)
+                    for g in expired:
+                        since[g] = None
+            if g_i is not None:
+                for g in range(len(sensor.groups)):
+                    if g not in inn.rejected_groups:
+                        locked_since[i][g] = None
+            tr = traces[i]
+            tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
+            tr["used"][j], tr["rejected"][j], tr["reset"][j] = inn.accepted, bool(inn.rejected_groups), inn.reset
+            e += 1
+        xs[k] = filt.state_view()  # copied into xs
+        Ps[k] = filt.P
+    return xs, Ps, traces
+
+
+def rts_smooth(model: Model, run: FilterRun, u, engine: str = "auto") -> FilterRun:
     r"""The Rauch–Tung–Striebel backward pass over a forward run: each estimate also uses the
     samples after it.
 
@@ -279,11 +321,15 @@ def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
         The forward run, from :func:`run_filter`.
     u : (N, m) array_like, or None when the model has no input
         The inputs the forward run was given (NaN rows held as there).
+    engine : {"auto", "compiled", "readable"}
+        As in :func:`run_filter`: the backward pass on the compiled engine when the model holds
+        only compiled kernels (``"auto"``), always (``"compiled"``, else ``ValueError``) or never.
 
     Returns
     -------
     FilterRun
-        ``x`` and ``P`` smoothed; the sensor traces are the forward run's.
+        ``x`` and ``P`` smoothed; the sensor traces are the forward run's. ``engine`` is
+        ``"compiled"`` when both passes ran on the engine.
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected a Model, got {type(model).__name__}")
@@ -291,11 +337,15 @@ def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
         raise ValueError(f"model: expected a model with a Jacobian G for the backward pass, got {model.name!r} without")
     if not isinstance(run, FilterRun):
         raise TypeError(f"run: expected a FilterRun from run_filter, got {type(run).__name__}")
+    engine = _as_engine(engine)
     N = run.t.shape[0]
     if run.x.shape[1:] != (model.dim_x,) or run.P.shape[1:] != (model.dim_P, model.dim_P):
         raise ValueError(f"run: expected states of {model.dim_x} and covariances of {model.dim_P}² for model "
                          f"{model.name!r}, got {run.x.shape[1:]} and {run.P.shape[1:]}")
     u, _ = held_inputs(model, u, N)
+    compiled = engine != "readable" and _rts_compiled(model, run, u, engine)
+    if isinstance(compiled, FilterRun):
+        return compiled
     add = model.state_add if model.is_error_state else np.add
     diff = model.residual_x if model.is_error_state else np.subtract
     xs, Ps = run.x.copy(), run.P.copy()
@@ -312,7 +362,22 @@ def rts_smooth(model: Model, run: FilterRun, u) -> FilterRun:
         xs[k] = x_s if model.normalize is None else model.normalize(x_s)
         P_s = P + C @ (Ps[k + 1] - prior_P) @ C.T
         Ps[k] = 0.5 * (P_s + P_s.T)
-    return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input)
+    return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input,
+                     engine_note=compiled or run.engine_note)
+
+
+def _rts_compiled(model: Model, run: FilterRun, u: np.ndarray, engine: str) -> FilterRun | str:
+    """:func:`rts_smooth`'s pass on the compiled engine, or why it cannot run there."""
+    records = runner.model_arrays(model)
+    if isinstance(records, str):
+        if engine == "compiled":
+            raise ValueError(f"engine: expected a model the compiled engine can run, got one it cannot: {records}")
+        return records
+    smoothed = runner.backward(records, run.t, u, run.x, run.P)
+    if smoothed is None:
+        return "the compiled backward pass raised, so the readable one ran"
+    return FilterRun(t=run.t, x=smoothed[0], P=smoothed[1], sensors=run.sensors, held_input=run.held_input,
+                     engine=run.engine, engine_note=run.engine_note)
 
 
 class FilterDivergedError(FloatingPointError):
@@ -329,4 +394,5 @@ def _first(run: FilterRun, k: int) -> FilterRun:
     for name, tr in run.sensors.items():
         keep = tr.t < run.t[k] if k < run.t.size else np.ones(tr.t.size, bool)
         traces[name] = SensorTrace(**{f: getattr(tr, f)[keep] for f in SensorTrace.__dataclass_fields__})
-    return FilterRun(t=run.t[:k], x=run.x[:k], P=run.P[:k], sensors=traces, held_input=run.held_input[:k])
+    return FilterRun(t=run.t[:k], x=run.x[:k], P=run.P[:k], sensors=traces, held_input=run.held_input[:k],
+                     engine=run.engine, engine_note=run.engine_note)

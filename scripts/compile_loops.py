@@ -9,8 +9,16 @@ import time
 
 import numpy as np
 
+from quadlib import ModelEKF
+from quadlib.attitude.bias_model import additive_attitude_bias_model
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
-from quadlib.attitude.orientation import estimate_orientation
+from quadlib.attitude.orientation import (
+    OrientationParams,
+    estimate_orientation,
+    gravity_sensor,
+    heading_sensor,
+    orientation_run,
+)
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.control import altitude_step, fly
@@ -37,8 +45,19 @@ def main() -> None:
                       np.random.default_rng(1), field_n=earth_field_ned(50.0, np.radians(65.0)))
     for offline in (False, True):  # every loop: rest, both low-passes, the forward pass, the backward pass
         estimate_orientation(log, offline=offline)
-    for make in FILTERS.values():  # Kesten's filters
+    short = log.slice(0, 30)
+    clipping = AttitudeNoise(gyro_range_rad_s=float(np.abs(log.gyro).max()))
+    for make in FILTERS.values():  # Kesten's filters on the engine, and their kernels called from Python
         run_attitude_filter(make(AttitudeNoise()), log)
+        run_attitude_filter(make(clipping), short, compiled=False)
+    orientation_run(short, OrientationParams(gyro_range_rad_s=clipping.gyro_range_rad_s), offline=True,
+                    compiled=False)
+    ekf = ModelEKF(additive_attitude_bias_model(0.005, 1e-4), np.r_[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                   np.eye(7), 0.01)
+    ekf.predict(short.gyro[0])
+    for sensor, context in ((heading_sensor(0.1, tilt_aware=True), short.mag[0]), (gravity_sensor(0.5), None)):
+        ekf.update_sensor(sensor, sensor.h(ekf.estimate, context) if context is not None else short.accel[0],
+                          context=context)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)

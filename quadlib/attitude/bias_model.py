@@ -8,12 +8,12 @@ body frame) and ``b + δb``. Used by the fixed-wing multiplicative EKF and error
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from quadlib.geometry import kernels
+from quadlib.compiled_kernels import attitude_bias_jacobian
+from quadlib.engine.kernel import Kernel
 from quadlib.imu import gyro_saturation_noise
+from quadlib.kernels import attitude as k
 from quadlib.model import Model
 from quadlib.validation import as_positive, as_vector
 
@@ -61,55 +61,16 @@ def normalize_attitude_jacobian(x):
     return _normalized_jacobian(as_attitude_state("x", x))
 
 
-# The unchecked versions: a filter calls these once per sample, after checking its whole log.
-
-def _step(x, u, dt):
-    return np.concatenate([kernels.multiply(x[:4], kernels.exp_rotvec((u - x[4:]) * dt)), x[4:]])
-
-
-def _step_jacobian(x, u, dt):
-    q = x[:4]
-    phi = (u - x[4:]) * dt
-    theta = math.sqrt(float(phi @ phi))
-    c, half = math.cos(theta / 2.0), 0.5 * theta
-    sinc = math.sin(half) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
-    # d(sin(θ/2)/θ)/dθ / θ, the coefficient of φ φᵀ in ∂(sin(θ/2) n)/∂φ, and its series
-    k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
-    w, (v0, v1, v2) = c, (sinc * phi).tolist()
-    J = np.eye(7)
-    J[:4, :4] = [[w, -v0, -v1, -v2], [v0, w, v2, -v1], [v1, -v2, w, v0], [v2, v1, -v0, w]]
-    d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
-    d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
-    J[:4, 4:] = -dt * (np.outer(q, d_w) + kernels.rate_matrix(q) @ d_v)
-    return J
-
-
-def _normalized(x):
-    return np.concatenate([kernels.normalize(x[:4]), x[4:]])
-
-
-def _normalized_jacobian(x):
-    J = np.eye(7)
-    norm = math.sqrt(float(x[:4] @ x[:4]))
-    q_hat = x[:4] / norm
-    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
-    return J
-
-
-def _add_error(x, e):
-    return np.concatenate([kernels.multiply(x[:4], kernels.exp_rotvec(e[:3])), x[4:] + e[3:]])
-
-
-def _error_between(x1, x0):
-    return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(x0[:4]), x1[:4])), x1[4:] - x0[4:]])
-
-
-def _add_jacobian(x):
-    """``∂(x ⊞ δx)/∂δx`` at 0: ``q ⊗ exp(δθ) ≈ q + ½ Ξ(q) δθ``, and the identity for the bias."""
-    J = np.zeros((7, 6))
-    J[:4, :3] = 0.5 * kernels.rate_matrix(x[:4])
-    J[4:, 3:] = np.eye(3)
-    return J
+# The unchecked versions, which a filter calls once per sample after checking its whole log: the
+# kernels of quadlib.kernels.attitude, which the compiled engine calls too.
+_step = Kernel("g", k.attitude_bias_step)
+_step_jacobian = Kernel("G", k.attitude_step_jacobian)
+_error_jacobian = Kernel("G", k.attitude_error_jacobian)
+_normalized = Kernel("normalize", k.normalize_quaternion)
+_normalized_jacobian = Kernel("normalize_jacobian", k.normalize_quaternion_jacobian)
+_add_error = Kernel("state_add", k.attitude_bias_add)
+_error_between = Kernel("residual_x", k.attitude_bias_difference)
+_add_jacobian = Kernel("add_jacobian", k.attitude_bias_add_jacobian)
 
 
 def gyro_error_jacobians(phi, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -117,19 +78,13 @@ def gyro_error_jacobians(phi, dt: float) -> tuple[np.ndarray, np.ndarray]:
     step ``φ = (ω − b) Δt``: ``∂δθ⁺/∂δθ = R(φ)ᵀ`` (the error turns back with the step) and
     ``∂δθ⁺/∂δb = −Δt J_r(φ)``, SO(3)'s right Jacobian
     ``J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²``, ``θ = |φ|``. Unchecked (a model's ``G``)."""
-    theta, K = float(np.linalg.norm(phi)), kernels.skew(phi)
-    if theta > 1e-6:
-        a, b = (1.0 - np.cos(theta)) / theta**2, (theta - np.sin(theta)) / theta**3
-    else:  # the series of both coefficients
-        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
-    return kernels.dcm(kernels.exp_rotvec(phi)).T, -dt * (np.eye(3) - a * K + b * K @ K)
+    G = attitude_bias_jacobian(np.require(phi, np.float64, "CW"), float(dt))
+    return G[:3, :3], G[:3, 3:]
 
 
-def _error_jacobian(x, u, dt):
-    """``∂δx_{k+1}/∂δx_k`` for ``[δθ, δb]``: :func:`gyro_error_jacobians`, the bias error constant."""
-    G = np.eye(6)
-    G[:3, :3], G[:3, 3:] = gyro_error_jacobians((u - x[4:]) * dt, dt)
-    return G
+def _gyro_noise(sg: float, sb: float, quaternion: bool) -> Kernel:
+    """``Q(Δt)``: ``(σ_ω Δt)²`` per rotation axis (``¼`` of it per quaternion component), ``σ_b² Δt`` per bias."""
+    return Kernel("Q", k.gyro_noise, [sg, 0.0, 0.25, 4, sb, 3] if quaternion else [sg, 0.0, 1.0, 3, sb, 3])
 
 
 def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
@@ -148,7 +103,7 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
                  g=_step,
-                 G=_error_jacobian, Q=lambda dt: np.diag([(sg * dt) ** 2] * 3 + [sb**2 * dt] * 3),
+                 G=_error_jacobian, Q=_gyro_noise(sg, sb, quaternion=False),
                  error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
                  state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
                  normalize=_normalized,
@@ -171,6 +126,6 @@ def additive_attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_s
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=_step, G=_step_jacobian,
-                 Q=lambda dt: np.diag([0.25 * (sg * dt) ** 2] * 4 + [sb**2 * dt] * 3),
+                 Q=_gyro_noise(sg, sb, quaternion=True),
                  normalize=_normalized, normalize_jacobian=_normalized_jacobian,
                  input_noise=gyro_saturation_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3), name=name)

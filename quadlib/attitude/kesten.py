@@ -39,7 +39,6 @@ Differs from the source, each time for a reason given in the errata (chapter 13)
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -47,10 +46,9 @@ from typing import NamedTuple
 import numpy as np
 
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
-from quadlib.attitude.compiled_kesten import QF, QKF, TOVKF, TQF, TQKF, kesten_pass
 from quadlib.constants import GRAVITY_N, earth_field_ned
+from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
-from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import (
     quat_from_rotvec,
     quat_normalize,
@@ -58,9 +56,11 @@ from quadlib.geometry.quaternion import (
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
+from quadlib.kernels import attitude as attitude_maths
+from quadlib.kernels import kesten as kesten_maths
 from quadlib.model import Model, Sensor
-from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
-from quadlib.samples import Measurements, repeats_a_time
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements
 from quadlib.validation import as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
@@ -122,8 +122,8 @@ class KestenFilter(NamedTuple):
 
     ``samples(log)`` gives each sensor's ``(N, k)`` samples from an :class:`ImuLog` (NaN rows
     where it has none); ``state_from_q`` and ``q_from_state`` convert between ``q_nb`` and the state.
-    ``noise`` is set by the five factories: with it, :func:`run_attitude_filter` can run the filter
-    ``name`` compiled (:mod:`~quadlib.attitude.compiled_kesten`); a filter built otherwise runs readable.
+    ``noise`` is the noise the five factories built the filter from (for reading; the filter's
+    model and sensors are what runs).
     """
 
     name: str
@@ -184,57 +184,44 @@ def _checked(noise, sigma0_rad, checks) -> float:
     return as_positive("sigma0_rad", sigma0_rad)
 
 
-def _gyro_step(q, u, dt):  # integrate_body_rate for one quaternion, unchecked (the log was checked)
-    return kernels.multiply(q, kernels.exp_rotvec(u * dt))
+_QUATERNION_STEP = Kernel("g", kesten_maths.quaternion_step)
+_NORMALIZE = Kernel("normalize", attitude_maths.normalize_quaternion)
+
+
+def _identity(n: int) -> Kernel:
+    """``G = I_n``: the gyro step moves the error unchanged."""
+    return Kernel("G", attitude_maths.identity_jacobian, [n])
+
+
+def _gyro_noise(noise: AttitudeNoise, n: int, scale: float) -> Kernel:
+    """``Q(Δt) = scale · v(Δt) I_n`` with ``v`` :meth:`AttitudeNoise.gyro_step_variance`."""
+    return Kernel("Q", attitude_maths.gyro_noise, [noise.gyro_sigma_rad_s, float(noise.thesis_process_noise), scale, n,
+                                             0.0, 0])
 
 
 def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
     """``q ← q ⊗ exp(ω Δt)`` on the 4 components, process noise ``(σ_ω Δt/2)² I₄``."""
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
-                 g=_gyro_step, G=lambda x, u, dt: np.eye(4),
-                 Q=lambda dt: 0.25 * noise.gyro_step_variance(dt) * np.eye(4), normalize=kernels.normalize,
+                 g=_QUATERNION_STEP, G=_identity(4), Q=_gyro_noise(noise, 4, 0.25), normalize=_NORMALIZE,
                  input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
 
 
 def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
-    """``q`` with ``blocks`` rotation errors of 3 components each: ``q ⊞ δ = q ⊗ exp(δ₁) ⊗ exp(δ₂) …``."""
-
-    def state_add(q, d):
-        for i in range(blocks):
-            if d[3 * i:3 * i + 3].any():  # each update turns by one block only
-                q = kernels.multiply(q, kernels.exp_rotvec(d[3 * i:3 * i + 3]))
-        return q
-
-    def residual_x(q1, q0):  # one right inverse of state_add: the whole turn in the first block
-        return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(q0), q1)), np.zeros(3 * blocks - 3)])
-
+    """``q`` with ``blocks`` rotation errors of 3 components each: ``q ⊞ δ = q ⊗ exp(δ₁) ⊗ exp(δ₂) …``
+    (each update turns by one block only), ``⊟`` the whole turn in the first block."""
     names = tuple(f"dtheta{i}_{axis}" for i in range(1, blocks + 1) for axis in "xyz")
     n = 3 * blocks
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"), error_names=names,
-                 g=_gyro_step, G=lambda x, u, dt: np.eye(n),
-                 Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(n), state_add=state_add, residual_x=residual_x,
-                 normalize=kernels.normalize, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
+                 g=_QUATERNION_STEP, G=_identity(n), Q=_gyro_noise(noise, n, 1.0),
+                 state_add=Kernel("state_add", kesten_maths.rotation_blocks_add, [blocks]),
+                 residual_x=Kernel("residual_x", kesten_maths.rotation_blocks_difference, [blocks]),
+                 normalize=_NORMALIZE, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
                  name="gyro-driven rotation error")
 
 
-def _rotvec_difference(z, z_hat) -> np.ndarray:
-    """The turn from the attitude ``exp(ẑ)`` to ``exp(z)`` as a rotation vector (``z``, ``ẑ`` are rotation vectors)."""
-    return kernels.rotvec(kernels.multiply(kernels.conjugate(kernels.exp_rotvec(z_hat)), kernels.exp_rotvec(z)))
-
-
-def _turn_between(z, z_hat) -> np.ndarray:
-    """The rotation vector that turns the measured direction ``z`` onto the predicted ``z_hat``
-    (eqs. 2.61, 2.63): axis ``z × ẑ``, angle between them. Written with floats: it runs once per sample."""
-    ax, ay, az = z.tolist()
-    bx, by, bz = z_hat.tolist()
-    na, nb = math.sqrt(ax * ax + ay * ay + az * az), math.sqrt(bx * bx + by * by + bz * bz)
-    ax, ay, az, bx, by, bz = ax / na, ay / na, az / na, bx / nb, by / nb, bz / nb
-    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-    s = math.sqrt(cx * cx + cy * cy + cz * cz)
-    if s < 1e-12:
-        return np.zeros(3)
-    angle = math.acos(min(1.0, max(-1.0, ax * bx + ay * by + az * bz)))
-    return np.array([cx / s, cy / s, cz / s]) * angle
+def _measured_states(n: int, dim: int) -> tuple[Kernel, Kernel]:
+    """``h(x) = x[:n]`` and ``H = [I_n 0]`` over ``dim`` states (or error states)."""
+    return Kernel("h", attitude_maths.state_slice, [0, n]), Kernel("H", attitude_maths.selection_H, [0, n, dim])
 
 
 def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -242,19 +229,14 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Truncated orientation-vector Kalman filter: state θ, H = I₃, Φ = I₃ (eqs. 2.26–2.35)."""
     s0 = _checked(noise, sigma0_rad, checks)
     model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
-                  g=lambda x, u, dt: kernels.rotvec(_gyro_step(kernels.exp_rotvec(x), u, dt)),
-                  G=lambda x, u, dt: np.eye(3), Q=lambda dt: noise.gyro_step_variance(dt) * np.eye(3),
-                  input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * 3), name="orientation vector")
-
-    def nearest(z, x):  # z, or the same attitude turned the other way round, whichever is nearer x
-        angle = np.linalg.norm(z)
-        if angle < 1e-12:
-            return z - x
-        other = z - 2 * np.pi * z / angle
-        return (z if np.linalg.norm(z - x) <= np.linalg.norm(other - x) else other) - x
-
-    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=lambda x: x,
-                    H=lambda x: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3), residual=nearest)
+                  g=Kernel("g", kesten_maths.orientation_vector_step), G=_identity(3),
+                  Q=_gyro_noise(noise, 3, 1.0), input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * 3),
+                  name="orientation vector")
+    h, H = _measured_states(3, 3)
+    # the residual: z, or the same attitude turned the other way round, whichever is nearer x
+    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=h, H=H,
+                    R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
+                    residual=Kernel("residual", kesten_maths.nearest_orientation))
     return KestenFilter("TOVKF", model, s0**2 * np.eye(3), (sensor,), lambda log: _measured_rotvec(log, noise, checks),
                         state_from_q=quat_to_rotvec, q_from_state=quat_from_rotvec, noise=noise)
 
@@ -263,9 +245,10 @@ def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
          checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated quaternion Kalman filter: state q, H = I₄, Φ = I₄ (eqs. 2.36–2.43)."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=lambda x: x, H=lambda x: np.eye(4),
+    h, H = _measured_states(4, 4)
+    sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=h, H=H,
                     R=0.25 * 0.5 * (noise.r_accel + noise.r_mag) * np.eye(4),
-                    residual=lambda z, x: (z if z @ x >= 0 else -z) - x)
+                    residual=Kernel("residual", kesten_maths.same_sign_quaternion))
     return KestenFilter("TQKF", _gyro_quaternion_model(noise), 0.25 * s0**2 * np.eye(4), (sensor,),
                         lambda log: (_measured_attitude(log, noise, checks),), noise=noise)
 
@@ -275,9 +258,10 @@ def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Truncated quaternion filter: a scalar-gain step along the geodesic toward the measured
     attitude (eqs. 2.44–2.48), as an error-state EKF with covariance ``p I₃``."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=kernels.rotvec,
-                    H=lambda q: np.eye(3), R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
-                    residual=_rotvec_difference)
+    sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"),
+                    h=Kernel("h", kesten_maths.quaternion_rotvec), H=_measured_states(3, 3)[1],
+                    R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
+                    residual=Kernel("residual", kesten_maths.rotvec_turn))
     return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,),
                         lambda log: _measured_rotvec(log, noise, checks), noise=noise)
 
@@ -287,8 +271,8 @@ def qkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     """Quaternion Kalman filter: the accelerometer and the magnetometer as nonlinear measurements
     of q (eqs. 2.25, 2.49–2.54), each updated on its own."""
     s0 = _checked(noise, sigma0_rad, checks)
-    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda x, ref=ref: kernels.dcm(x).T @ ref,
-                           H=lambda x, ref=ref: kernels.body_vector_jacobian(x, ref), R=sigma**2 * np.eye(3))
+    sensors = tuple(Sensor(name=name, measurement_names=("x", "y", "z"), h=Kernel("h", attitude_maths.body_vector, ref),
+                           H=Kernel("H", attitude_maths.body_vector_H, [*ref, 4]), R=sigma**2 * np.eye(3))
                     for name, ref, sigma in (("accel", noise.accel_n, noise.accel_sigma_m_s2),
                                              ("mag", noise.field_n, noise.mag_sigma)))
 
@@ -308,10 +292,10 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     sensors = []
     for block, (name, ref, r) in enumerate((("accel", noise.accel_n, noise.r_accel),
                                             ("mag", noise.field_n, noise.r_mag))):
-        H = np.zeros((3, 6))
-        H[:, 3 * block:3 * block + 3] = np.eye(3)
-        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"), h=lambda q, ref=ref: kernels.dcm(q).T @ ref,
-                              H=lambda q, H=H: H, R=r * np.eye(3), residual=_turn_between))
+        sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"),
+                              h=Kernel("h", attitude_maths.body_vector, ref),
+                              H=Kernel("H", attitude_maths.selection_H, [3 * block, 3, 6]), R=r * np.eye(3),
+                              residual=Kernel("residual", kesten_maths.turn_between)))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
                         lambda log: (_accel(log, checks), _mag(log, noise, checks)), noise=noise)
 
@@ -324,9 +308,6 @@ class AttitudeRun(NamedTuple):
 
     q_nb: np.ndarray
     run: FilterRun
-
-
-_KINDS = {"TOVKF": TOVKF, "TQKF": TQKF, "TQF": TQF, "QKF": QKF, "QF": QF}  # the filters with a compiled twin
 
 
 def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0), compiled: bool = True) -> AttitudeRun:
@@ -342,9 +323,11 @@ def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)
     q0 : (4,) array_like
         Initial attitude ``q_nb``.
     compiled : bool
-        Run the same steps compiled (:mod:`~quadlib.attitude.compiled_kesten`; equal to
-        ``run_filter``'s to 1e-10, tested) for a filter from :data:`FILTERS`; False runs the readable
-        filter. A log whose timestamps repeat within their precision always takes the readable one.
+        Run on the compiled engine (:mod:`quadlib.engine`; equal to the readable loop to 1e-10,
+        tested) when the filter's model and sensors hold only compiled kernels, as the factories'
+        do; a filter with a function in plain Python — a model changed with
+        ``dataclasses.replace(model, Q=...)`` to one — runs on the readable loop, and
+        ``run.engine`` says so. False always runs the readable loop.
     """
     if not isinstance(filt, KestenFilter):
         raise TypeError(f"filt: expected a KestenFilter (e.g. qkf(noise)), got {type(filt).__name__}")
@@ -356,36 +339,5 @@ def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)
     dt = float(log.t[1] - log.t[0]) if len(log) > 1 else 1.0
     ekf = ModelEKF(filt.model, filt.state_from_q(q0), filt.P0, dt)
     measurements = [Measurements(s, log.t, z) for s, z in zip(filt.sensors, filt.samples(log), strict=True)]
-    if (compiled and filt.noise is not None and filt.name in _KINDS
-            and not repeats_a_time(log.t)):
-        run = _compiled_run(filt, ekf, log, measurements)
-        if run is not None:
-            return AttitudeRun(filt.q_from_state(run.x), run)
-    run = run_filter(ekf, log.t, log.gyro, measurements)
+    run = run_filter(ekf, log.t, log.gyro, measurements, engine="auto" if compiled else "readable")
     return AttitudeRun(filt.q_from_state(run.x), run)
-
-
-def _compiled_run(filt: KestenFilter, ekf: ModelEKF, log: ImuLog, measurements: list[Measurements]) -> FilterRun | None:
-    """What ``run_filter(ekf, log.t, log.gyro, measurements)`` returns, from
-    :func:`~quadlib.attitude.compiled_kesten.kesten_pass`; None if the estimate became non-finite
-    (the readable loop then names where)."""
-    n, noise = len(log), filt.noise
-    gyro, held = held_inputs(ekf.model, log.gyro, n)
-    kind = _KINDS[filt.name]
-    refs = (noise.accel_n, noise.field_n) if kind in (QKF, QF) else (np.zeros(3), np.zeros(3))
-    sensors = [(m.z, ~m.missing, m.sensor.R) for m in measurements]
-    if len(sensors) == 1:  # a second sensor that never reports
-        sensors.append((np.zeros((n, 1)), np.zeros(n, bool), np.eye(1)))
-    (z0, present0, R0), (z1, present1, R1) = sensors
-    xs, Ps, *traces = kesten_pass(kind, log.t, gyro, z0, present0, z1, present1, ekf.state_view().copy(), ekf.P,
-                                  ekf.dt, noise.gyro_sigma_rad_s, noise.thesis_process_noise,
-                                  0.25 if kind in (TQKF, QKF) else 1.0, noise.gyro_range_rad_s or 0.0, R0, R1, *refs)
-    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
-    out = {}
-    for i, m in enumerate(measurements):
-        innovation, S, nis = traces[3 * i:3 * i + 3]
-        none = np.zeros(n, bool)
-        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=~m.missing, rejected=none,
-                                         reset=none, missing=m.missing, duplicate=none)
-    return FilterRun(t=log.t, x=xs, P=Ps, sensors=out, held_input=held)

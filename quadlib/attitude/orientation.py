@@ -23,20 +23,18 @@ import numpy as np
 
 from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
-from quadlib.attitude.compiled_mekf import calm_samples, inertial_lowpass_pass, mekf_pass, rts_pass
-from quadlib.compiled_kernels import corrected_mask
+from quadlib.attitude.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.constants import G0, GRAVITY_N
+from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
-from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
-from quadlib.geometry.rotations import wrap_angle
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream
+from quadlib.kernels import attitude as attitude_maths
 from quadlib.model import Sensor
-from quadlib.model_filter import gate_threshold
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
-from quadlib.replay import FilterRun, SensorTrace, held_inputs, rts_smooth, run_filter
-from quadlib.samples import Measurements, repeats_a_time
+from quadlib.replay import FilterRun, rts_smooth, run_filter
+from quadlib.samples import Measurements
 from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
@@ -123,48 +121,8 @@ def gravity_sensor(sigma_m_s2: float, gated: bool = True) -> Sensor:
     if not isinstance(gated, bool):
         raise TypeError(f"gated: expected True or False, got {gated!r}")
     up = -GRAVITY_N
-    zeros = np.zeros((3, 3))
-    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=lambda x: kernels.dcm(x[:4]).T @ up,
-                  H=lambda x: np.hstack([kernels.body_vector_jacobian(x[:4], up), zeros]), R=sigma_m_s2**2 * np.eye(3),
-                  gated=gated)
-
-
-def _field_heading(x, m_b):
-    m_n = kernels.dcm(x[:4]) @ m_b
-    return np.array([np.arctan2(m_n[1], m_n[0])])
-
-
-def _heading_only_jacobian(dim_x: int):
-    """The heading's Jacobian restricted to turns about the vertical: in error coordinates
-    ``∂ψ/∂δθ = R(q)[2, :]`` (a body turn ``δθ`` turns the earth frame by ``R δθ``, whose down
-    component is the heading change), ``0`` for every other state. Written with respect to ``x``
-    (the quaternion in ``x[:4]``) through ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The
-    innovation can then turn the attitude about the vertical only: a heading computed with a
-    slightly wrong tilt cannot tilt the estimate."""
-
-    def H(x, m_b):
-        J = np.zeros((1, dim_x))
-        J[0, :4] = kernels.dcm(x[:4])[2] @ (2.0 * kernels.rate_matrix(x[:4]).T)
-        return J
-
-    return H
-
-
-def _field_heading_jacobian(dim_x: int):
-    """The heading's full Jacobian: ``m_n = R(q) m_b`` and ``R(q ⊗ exp δθ) ≈ R (I + [δθ]×)`` give
-    ``∂m_n/∂δθ = −R [m_b]×``, and ``∂ψ/∂m_n = [−m_n,y, m_n,x, 0] / (m_n,x² + m_n,y²)``; written with
-    respect to ``x`` through ``2 Ξ(q)ᵀ`` as above. A tilt error turns the measured heading as well,
-    by about tan(dip) times the tilt, and this Jacobian carries that into the innovation's variance."""
-
-    def H(x, m_b):
-        R = kernels.dcm(x[:4])
-        m_n = R @ m_b
-        d_psi = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
-        J = np.zeros((1, dim_x))
-        J[0, :4] = (-d_psi @ R @ kernels.skew(m_b)) @ (2.0 * kernels.rate_matrix(x[:4]).T)
-        return J
-
-    return H
+    return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=Kernel("h", attitude_maths.body_vector, up),
+                  H=Kernel("H", attitude_maths.body_vector_H, [*up, 7]), R=sigma_m_s2**2 * np.eye(3), gated=gated)
 
 
 def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int = 7,
@@ -177,10 +135,20 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     magnetometer out of its bias estimate for the same reason). ``corrects_bias`` gives the
     ordinary update, whose optimal gain the RTS smoother assumes.
 
+    The heading's Jacobian is restricted to turns about the vertical
+    (:func:`~quadlib.kernels.attitude.heading_only_H`): in error coordinates ``∂ψ/∂δθ = R(q)[2, :]``
+    (a body turn ``δθ`` turns the earth frame by ``R δθ``, whose down component is the heading
+    change), ``0`` for every other state, written with respect to ``x`` (the quaternion in ``x[:4]``)
+    through ``2 Ξ(q)ᵀ``, the inverse of ``∂q/∂δθ = ½ Ξ(q)``. The innovation can then turn the
+    attitude about the vertical only: a heading computed with a slightly wrong tilt cannot tilt the
+    estimate.
+
     ``tilt_aware``: the heading a magnetometer gives also moves with the tilt error, by about
     tan(dip) times it. The default update leaves that out (its Jacobian sees the heading only) and,
     where the tilt is uncertain against the heading's noise, then trusts the heading too much.
-    With ``tilt_aware`` the full Jacobian (:func:`_field_heading_jacobian`) puts the tilt's share
+    With ``tilt_aware`` the full Jacobian (:func:`~quadlib.kernels.attitude.tilt_aware_heading_H`:
+    ``m_n = R(q) m_b`` and ``R(q ⊗ exp δθ) ≈ R (I + [δθ]×)`` give ``∂m_n/∂δθ = −R [m_b]×``, and
+    ``∂ψ/∂m_n = [−m_n,y, m_n,x, 0] / (m_n,x² + m_n,y²)``) puts the tilt's share
     into the innovation's variance, and the gain corrects one error only, the turn about body z
     (error state 2; the others are ``uncorrected``): the magnetometer still never tilts the
     estimate, and never touches anything else in it. A consider update, so not for the smoother
@@ -204,20 +172,20 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
         raise ValueError("corrects_bias: expected False with tilt_aware=True (its update corrects the heading only), "
                          "got True")
     if tilt_aware:
-        H, uncorrected = _field_heading_jacobian(dim_x), tuple(i for i in range(dim_x - 1) if i != 2)
+        H, uncorrected = attitude_maths.tilt_aware_heading_H, tuple(i for i in range(dim_x - 1) if i != 2)
     else:
-        H, uncorrected = _heading_only_jacobian(dim_x), () if corrects_bias else gyro_bias_errors
+        H, uncorrected = attitude_maths.heading_only_H, () if corrects_bias else gyro_bias_errors
     return Sensor(name="heading", measurement_names=("heading [rad]",), context_names=("mx", "my", "mz"),
-                  h=_field_heading, H=H, R=np.full((1, 1), sigma_rad**2),
-                  residual=lambda z, z_hat: wrap_angle(np.subtract(z, z_hat)), uncorrected=uncorrected)
+                  h=Kernel("h", attitude_maths.field_heading, context=True), H=Kernel("H", H, [dim_x], context=True),
+                  R=np.full((1, 1), sigma_rad**2), residual=Kernel("residual", attitude_maths.wrapped_difference),
+                  uncorrected=uncorrected)
 
 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:
     """The gyro at rest as a measurement of its own bias: ``h(x) = b`` [rad/s], σ per sample."""
     as_positive("sigma_rad_s", sigma_rad_s)
-    H = np.hstack([np.zeros((3, 4)), np.eye(3)])
-    return Sensor(name="zero rate", measurement_names=GYRO_NAMES, h=lambda x: x[4:], H=lambda x: H,
-                  R=sigma_rad_s**2 * np.eye(3))
+    return Sensor(name="zero rate", measurement_names=GYRO_NAMES, h=Kernel("h", attitude_maths.state_slice, [4, 3]),
+                  H=Kernel("H", attitude_maths.selection_H, [4, 3, 7]), R=sigma_rad_s**2 * np.eye(3))
 
 
 def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, tau_s: float = 0.5) -> np.ndarray:
@@ -369,10 +337,10 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
     each update did (the forward pass's, also when ``offline``).
 
     Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
-    ``compiled=False`` runs the readable filter, :class:`~quadlib.ModelEKF` driven by
-    :func:`~quadlib.replay.run_filter` (and :func:`~quadlib.replay.rts_smooth` offline); the default
-    runs the same steps compiled (:mod:`~quadlib.attitude.compiled_mekf`; equal to 1e-10, tested),
-    and falls back to the readable one for a log whose timestamps repeat within their precision.
+    The filter is :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.replay.run_filter` (and
+    :func:`~quadlib.replay.rts_smooth` offline), whose model and sensors are compiled kernels: by
+    default both run on the compiled engine (:mod:`quadlib.engine`; equal to the readable loop to
+    1e-10, tested); ``compiled=False`` runs the readable loops.
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
@@ -382,26 +350,20 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
         if not isinstance(flag, bool):
             raise TypeError(f"{name}: expected True or False, got {flag!r}")
     declination_rad = as_finite_number("declination_rad", declination_rad)
-    compiled = compiled and not repeats_a_time(log.t)
+    engine = "auto" if compiled else "readable"
     if params.accel_tau_s is None:
-        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, compiled)
+        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, engine)
     else:
         tau, shock = params.accel_tau_s, params.accel_shock_m_s2
         raw_gravity = inertial_lowpass(log, tau, shock_m_s2=shock)
-        first, _ = _orientation_pass(log, params, declination_rad, raw_gravity, offline, compiled)
+        first, _ = _orientation_pass(log, params, declination_rad, raw_gravity, offline, engine)
         gravity = inertial_lowpass(log, tau, first.x[:, 4:], shock, two_sided=offline)
-        run, model = _orientation_pass(log, params, declination_rad, gravity, offline, compiled)
-    if not offline:
-        return run
-    if not compiled:
-        return rts_smooth(model, run, log.gyro)
-    x, P = rts_pass(log.t, held_inputs(model, log.gyro, len(log))[0], run.x, run.P, params.gyro_sigma_rad_s,
-                    params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s or 0.0)
-    return FilterRun(t=run.t, x=x, P=P, sensors=run.sensors, held_input=run.held_input)
+        run, model = _orientation_pass(log, params, declination_rad, gravity, offline, engine)
+    return rts_smooth(model, run, log.gyro, engine=engine) if offline else run
 
 
 def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool,
-                      compiled: bool):
+                      engine: str):
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     accel = np.where(good_a[:, None], gravity, np.nan)
@@ -424,42 +386,5 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)
         measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
                                          np.where(rest[:, None], log.gyro, np.nan)))
-    if compiled:
-        run = _compiled_run(ekf, log, measurements, params, offline)
-        if run is not None:
-            return run, model
-    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability), model
-
-
-def _compiled_run(ekf: ModelEKF, log: ImuLog, measurements: list, params: OrientationParams,
-                  offline: bool) -> FilterRun | None:
-    """What ``run_filter(ekf, log.t, log.gyro, measurements, params.gate_probability)`` returns, from
-    :func:`~quadlib.attitude.compiled_mekf.mekf_pass`; None if the estimate became non-finite
-    (the readable loop then names where)."""
-    n = len(log)
-    gyro, held = held_inputs(ekf.model, log.gyro, n)
-    by_name = {m.sensor.name: m for m in measurements}
-    gravity, heading, zero_rate = (by_name.get(name) for name in ("gravity", "heading", "zero rate"))
-    nan3 = np.full((n, 3), np.nan)
-    p = params.gate_probability
-
-    def gate(dim):
-        return 0.0 if p is None else gate_threshold(dim, p)
-
-    xs, Ps, *traces, nis, used, rejected = mekf_pass(
-        log.t, gyro, gravity.z, nan3[:, 0] if heading is None else heading.z[:, 0],
-        nan3 if heading is None else heading.context,
-        nan3 if zero_rate is None else zero_rate.z, ekf.nominal, ekf.P, ekf.dt,
-        params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gravity_sigma_m_s2**2,
-        params.heading_sigma_rad**2, params.gyro_sigma_rad_s**2, gate(3) if gravity.sensor.gated else 0.0,
-        gate(1), gate(3), params.gyro_range_rad_s or 0.0,
-        corrected_mask(6, () if heading is None else heading.sensor.uncorrected), -GRAVITY_N)
-    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
-    sensors = {}
-    for i, (m, (innovation, S)) in enumerate(zip((gravity, heading, zero_rate), traces, strict=True)):
-        if m is not None:
-            none = np.zeros(n, bool)
-            sensors[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis[i], used=used[i],
-                                                 rejected=rejected[i], reset=none, missing=m.missing, duplicate=none)
-    return FilterRun(t=log.t, x=xs, P=Ps, sensors=sensors, held_input=held)
+    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability,
+                      engine=engine), model

@@ -5,8 +5,8 @@ and the sensors of :func:`~quadlib.fixedwing.estimate.fixedwing_measurements`, a
 The readable filters are :class:`~quadlib.ModelEKF` and :class:`~quadlib.ModelUKF` driven by
 ``run_filter``; chapter 15 builds the EKF in view. They cost a few hundred microseconds (the EKF)
 and about a millisecond (the UKF) a sample, nearly all of it the overhead of small numpy arrays,
-so the same steps are written here once more as plain loops that numba compiles (as
-:mod:`quadlib.attitude.compiled_mekf` does for the orientation MEKF).
+so the same steps are written here once more as plain loops that numba compiles (the orientation
+MEKF runs on :mod:`quadlib.engine` instead, which these will move onto).
 :mod:`tests.fixedwing.test_compiled` checks that each gives the same states, covariances and
 sensor traces as its readable twin to 1e-10, with dropouts, a failed pitot, gate rejections and a
 saturated gyro.

@@ -155,3 +155,13 @@ def test_a_filter_that_knows_the_gyro_range_recovers_from_a_saturated_spin(name)
     after = motion.t >= 5.0 + 6.0
     assert error[after].max() < (20.0 if name == "QF" else 1.0)
     assert blind[motion.t.searchsorted(5.0 + 2.0)] > 10.0  # not knowing the range, two seconds on: far off
+
+
+def test_the_tumble_is_integrate_body_rate_bit_for_bit():
+    """random_rotation integrates with the one-quaternion kernels; every stored Fig. 5.2 number
+    depends on its truth being eq. (2.7) exactly as integrate_body_rate computes it."""
+    motion = random_rotation(2.0, 250.0, np.random.default_rng(10))
+    q = motion.q_nb[:1].copy()
+    for k in range(1, motion.t.size):
+        q = np.vstack([q, integrate_body_rate(q[-1], motion.omega_b[k - 1], 1.0 / 250.0)])
+    np.testing.assert_array_equal(q, motion.q_nb)

@@ -1,0 +1,68 @@
+"""The low-passes of rest detection and of the accelerometer, compiled.
+
+Their readable descriptions are :func:`~quadlib.attitude.orientation.rest_mask` and
+:func:`~quadlib.attitude.orientation.inertial_lowpass`, which call them; ``py_func`` is each
+loop uncompiled (tested equal).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from quadlib.compiled_kernels import called_from_python, dcm, exp_rotvec, multiply
+
+__all__: list[str] = []  # internal: orientation.py is the interface
+
+
+@called_from_python
+@njit(cache=True)
+def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
+    """:func:`~quadlib.attitude.orientation.rest_mask`'s first step: each sample within the
+    thresholds of its stream's first-order low-pass."""
+    n = t.shape[0]
+    calm = np.zeros(n, np.bool_)
+    lp_g, lp_a = np.zeros(3), np.zeros(3)
+    started = False
+    for k in range(n):
+        g, a = gyro[k], accel[k]
+        if np.isnan(g).any() or np.isnan(a).any():
+            continue
+        if not started:
+            lp_g, lp_a, started = g.copy(), a.copy(), True
+        else:
+            w = (t[k] - t[k - 1]) / (tau + t[k] - t[k - 1])
+            lp_g, lp_a = lp_g + w * (g - lp_g), lp_a + w * (a - lp_a)
+        calm[k] = np.linalg.norm(g - lp_g) < gyro_th and np.linalg.norm(a - lp_a) < accel_th
+    return calm
+
+
+@called_from_python
+@njit(cache=True)
+def inertial_lowpass_pass(t, gyro, accel, usable, tau, backward):
+    """One direction of :func:`~quadlib.attitude.orientation.inertial_lowpass`: the frame is
+    integrated from the gyro over each step, forwards or backwards in time."""
+    n = t.shape[0]
+    out = np.full_like(accel, np.nan)
+    q = np.array([1.0, 0.0, 0.0, 0.0])
+    mean = np.zeros(3)
+    have_mean = False
+    previous = -1
+    for i in range(n):
+        k = n - 1 - i if backward else i
+        if previous >= 0:  # turn the frame from the previous sample to this one
+            step = t[k] - t[previous]
+            rate = gyro[previous] if step > 0 else -gyro[k]
+            q = multiply(q, exp_rotvec(rate * abs(step)))
+        R = dcm(q)
+        if usable[k]:
+            a_i = R @ accel[k]
+            dt = abs(t[k] - t[previous]) if previous >= 0 else 0.0
+            if have_mean:
+                mean = mean + dt / (tau + dt) * (a_i - mean)
+            else:
+                mean, have_mean = a_i, True
+        if have_mean:
+            out[k] = R.T @ mean
+        previous = k
+    return out

@@ -1,0 +1,237 @@
+"""The attitude-and-gyro-bias model and its sensors as numba kernels (:mod:`quadlib.kernels`).
+
+State ``x = [q_nb (4), b (3)]`` (or the quaternion alone), input the gyro ``ω`` [rad/s], error
+``δx = [δθ, δb]`` with ``q ⊗ exp(δθ)``. The readable descriptions, with their equations, are
+:func:`~quadlib.attitude.bias_model.attitude_bias_model` and
+:func:`~quadlib.attitude.bias_model.additive_attitude_bias_model` (the model) and
+:func:`~quadlib.attitude.orientation.gravity_sensor`, :func:`~quadlib.attitude.orientation.heading_sensor`
+and :func:`~quadlib.attitude.orientation.zero_rate_sensor` (the sensors), which bind these.
+Besides them, the pieces any model uses: an identity Jacobian, a selection of states and its Jacobian.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from quadlib.compiled_kernels import (
+    attitude_bias_jacobian,
+    body_vector_jacobian,
+    dcm,
+    matrix,
+    multiply,
+    product,
+    rate_matrix,
+    rotvec,
+    saturated,
+    skew,
+    wrap,
+)
+
+__all__: list[str] = []  # bound by the model factories; see the module docstring
+
+
+# --- the model: g, G, Q, input noise, ⊞, ⊟, ∂⊞/∂δ, normalize --------------------------------
+
+@njit(cache=True)
+def turn_into(out, q, vx, vy, vz):
+    """``out[:4] = q ⊗ exp(v)``, as :func:`~quadlib.compiled_kernels.multiply` of
+    :func:`~quadlib.compiled_kernels.exp_rotvec` computes it, without their two arrays."""
+    angle = math.sqrt(vx * vx + vy * vy + vz * vz)
+    half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
+    e0, e1, e2, e3 = math.cos(0.5 * angle), half_sinc * vx, half_sinc * vy, half_sinc * vz
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    out[0] = q0 * e0 - q1 * e1 - q2 * e2 - q3 * e3
+    out[1] = q0 * e1 + q1 * e0 + q2 * e3 - q3 * e2
+    out[2] = q0 * e2 - q1 * e3 + q2 * e0 + q3 * e1
+    out[3] = q0 * e3 + q1 * e2 - q2 * e1 + q3 * e0
+
+
+@njit(cache=True)
+def attitude_bias_step(x, u, dt, p):
+    """``g``: ``[q ⊗ exp((ω − b) Δt), b]``."""
+    out = x.copy()
+    turn_into(out, x, (u[0] - x[4]) * dt, (u[1] - x[5]) * dt, (u[2] - x[6]) * dt)
+    return out
+
+
+@njit(cache=True)
+def attitude_error_jacobian(x, u, dt, p):
+    """``G`` of the error ``[δθ, δb]``, ``(6, 6)``: ``R(φ)ᵀ`` and ``−Δt J_r(φ)``, ``φ = (ω − b) Δt``."""
+    return attitude_bias_jacobian((u - x[4:]) * dt, dt)
+
+
+@njit(cache=True)
+def attitude_step_jacobian(x, u, dt, p):
+    """``G`` of the additive 7-state, ``∂[q ⊗ exp(φ), b]/∂[q, b]``, exact."""
+    q, phi = x[:4], (u - x[4:]) * dt
+    theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
+    c = math.cos(theta / 2.0)
+    sinc = math.sin(0.5 * theta) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
+    k = (0.5 * c - sinc) / theta**2 if theta > 1e-3 else -1.0 / 24.0 + theta**2 / 960.0
+    v0, v1, v2 = sinc * phi[0], sinc * phi[1], sinc * phi[2]
+    J = np.eye(7)
+    J[:4, :4] = matrix(4, 4, (c, -v0, -v1, -v2, v0, c, v2, -v1, v1, -v2, c, v0, v2, v1, -v0, c))
+    d_w = -0.5 * sinc * phi  # ∂cos(θ/2)/∂φ
+    d_v = sinc * np.eye(3) + k * np.outer(phi, phi)  # ∂(sin(θ/2)/θ · φ)/∂φ
+    J[:4, 4:] = -dt * (np.outer(q, d_w) + product(rate_matrix(q), d_v))
+    return J
+
+
+@njit(cache=True)
+def identity_jacobian(x, u, dt, p):
+    """``G = I`` of size ``p[0]``."""
+    return np.eye(int(p[0]))
+
+
+@njit(cache=True)
+def gyro_noise(dt, p):
+    """``Q(Δt) = diag(s·v(Δt) I_a, σ_b² Δt I_b)``, ``p = [σ_ω, thesis, s, a, σ_b, b]``: the attitude's
+    ``v = (σ_ω Δt)²``, or the thesis's ``Δt σ_ω²`` when ``thesis`` is 1 (Kesten's E15)."""
+    sigma, scale, n_att, sigma_b, n_bias = p[0], p[2], int(p[3]), p[4], int(p[5])
+    var = dt * sigma**2 if p[1] != 0.0 else (sigma * dt) ** 2
+    Q = np.zeros((n_att + n_bias, n_att + n_bias))
+    for i in range(n_att):
+        Q[i, i] = scale * var
+    for i in range(n_att, n_att + n_bias):
+        Q[i, i] = sigma_b**2 * dt
+    return Q
+
+
+@njit(cache=True)
+def gyro_saturation(u, dt, p):
+    """The input noise of a clipped gyro sample, ``p = [range, n, s₁ … s_n]``: ``(range Δt)² diag(s)``
+    when ``u`` is at the full scale (:func:`~quadlib.imu.saturated_step_variance`)."""
+    n = int(p[1])
+    M = np.zeros((n, n))
+    if not saturated(u, p[0]):
+        return False, M
+    v = (p[0] * dt) ** 2
+    for i in range(n):
+        M[i, i] = v * p[2 + i]
+    return True, M
+
+
+@njit(cache=True)
+def attitude_bias_add(x, d, p):
+    """``x ⊞ δx = [q ⊗ exp(δθ), b + δb]``."""
+    out = x.copy()
+    turn_into(out, x, d[0], d[1], d[2])
+    for i in range(4, x.shape[0]):
+        out[i] = x[i] + d[i - 1]
+    return out
+
+
+@njit(cache=True)
+def attitude_bias_difference(x1, x0, p):
+    """``x₁ ⊟ x₀ = [rotvec(q₀* ⊗ q₁), b₁ − b₀]``."""
+    out = np.empty(x1.shape[0] - 1)
+    q0 = x0[:4]
+    out[:3] = rotvec(multiply(np.array([q0[0], -q0[1], -q0[2], -q0[3]]), x1[:4]))
+    out[3:] = x1[4:] - x0[4:]
+    return out
+
+
+@njit(cache=True)
+def attitude_bias_add_jacobian(x, p):
+    """``∂(x ⊞ δx)/∂δx`` at 0: ``½ Ξ(q)`` for the quaternion, the identity for the rest."""
+    n = x.shape[0]
+    J = np.zeros((n, n - 1))
+    J[:4, :3] = 0.5 * rate_matrix(x[:4])
+    for i in range(4, n):
+        J[i, i - 1] = 1.0
+    return J
+
+
+@njit(cache=True)
+def normalize_quaternion(x, p):
+    """The quaternion ``x[:4]`` to unit norm, the other states unchanged."""
+    out = x.copy()
+    norm = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3])
+    for i in range(4):
+        out[i] = x[i] / norm
+    return out
+
+
+@njit(cache=True)
+def normalize_quaternion_jacobian(x, p):
+    """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the rest."""
+    J = np.eye(x.shape[0])
+    q = x[:4]
+    norm = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    q_hat = q / norm
+    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
+    return J
+
+
+# --- the sensors: h, H, residuals ------------------------------------------------------------
+
+@njit(cache=True)
+def body_vector(x, c, p):
+    """``h = R(q)ᵀ r``, the earth vector ``r = p[:3]`` seen in the body (gravity's ``−g_n``, the field)."""
+    R = dcm(x[:4])
+    return np.array([R[0, 0] * p[0] + R[1, 0] * p[1] + R[2, 0] * p[2],
+                     R[0, 1] * p[0] + R[1, 1] * p[1] + R[2, 1] * p[2],
+                     R[0, 2] * p[0] + R[1, 2] * p[1] + R[2, 2] * p[2]])
+
+
+@njit(cache=True)
+def body_vector_H(x, c, p):
+    """``∂(R(q)ᵀ r)/∂x``, ``(3, n)`` with ``n = p[3]``: the quaternion's columns, zero for the rest."""
+    J = np.zeros((3, int(p[3])))
+    J[:, :4] = body_vector_jacobian(x[:4], p[:3])
+    return J
+
+
+@njit(cache=True)
+def field_heading(x, c, p):
+    """The heading of the body field ``c`` turned into the earth frame, east of north [rad]."""
+    R = dcm(x[:4])
+    return np.array([math.atan2(R[1, 0] * c[0] + R[1, 1] * c[1] + R[1, 2] * c[2],
+                                R[0, 0] * c[0] + R[0, 1] * c[1] + R[0, 2] * c[2])])
+
+
+@njit(cache=True)
+def heading_only_H(x, c, p):
+    """The heading's Jacobian about the vertical only, ``(1, n)``, ``n = p[0]``: ``R(q)[2] · 2 Ξ(q)ᵀ``."""
+    R, Xi = dcm(x[:4]), rate_matrix(x[:4])
+    J = np.zeros((1, int(p[0])))
+    for i in range(4):
+        J[0, i] = 2.0 * (R[2, 0] * Xi[i, 0] + R[2, 1] * Xi[i, 1] + R[2, 2] * Xi[i, 2])
+    return J
+
+
+@njit(cache=True)
+def tilt_aware_heading_H(x, c, p):
+    """The heading's full Jacobian, ``(1, n)``, ``n = p[0]``: ``−∂ψ/∂m_n · R [m_b]× · 2 Ξ(q)ᵀ``."""
+    R = dcm(x[:4])
+    m_n = R @ c
+    d_psi = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
+    J = np.zeros((1, int(p[0])))
+    J[0, :4] = (-d_psi @ R @ skew(c)) @ (2.0 * rate_matrix(x[:4]).T)
+    return J
+
+
+@njit(cache=True)
+def state_slice(x, c, p):
+    """``h = x[a : a + k]``, ``p = [a, k]``."""
+    a = int(p[0])
+    return x[a:a + int(p[1])].copy()
+
+
+@njit(cache=True)
+def selection_H(x, c, p):
+    """``H`` that picks ``k`` states from ``a`` among ``n``, ``p = [a, k, n]``: ``[0 I_k 0]``."""
+    a, k = int(p[0]), int(p[1])
+    H = np.zeros((k, int(p[2])))
+    for i in range(k):
+        H[i, a + i] = 1.0
+    return H
+
+
+@njit(cache=True)
+def wrapped_difference(z, z_hat, p):
+    """``z − ẑ`` wrapped to (−π, π] (an angle's residual)."""
+    return wrap(z - z_hat)

@@ -1,0 +1,69 @@
+"""Each kernel number the engine's switches take calls that number's kernel in its table, and every
+kernel of the tables is one that a model or sensor factory binds."""
+
+import numpy as np
+import pytest
+
+from quadlib.attitude.bias_model import additive_attitude_bias_model, attitude_bias_model
+from quadlib.attitude.kesten import FILTERS, AttitudeNoise
+from quadlib.attitude.orientation import gravity_sensor, heading_sensor, zero_rate_sensor
+from quadlib.engine.dispatch import SWITCHES, TABLES, kind_of
+from quadlib.engine.kernel import MODEL_ROLES, SENSOR_ROLES, Kernel
+from quadlib.geometry.quaternion import quat_from_rotvec
+
+RANGE = 2.0
+NOISE = AttitudeNoise(gyro_range_rad_s=RANGE)
+KESTEN = [make(NOISE) for make in FILTERS.values()]
+ATTITUDE = [attitude_bias_model(0.01, 1e-3, RANGE), additive_attitude_bias_model(0.01, 1e-3, RANGE)]
+SENSORS = [gravity_sensor(0.3), heading_sensor(0.1), heading_sensor(0.1, tilt_aware=True), zero_rate_sensor(0.01)]
+
+
+def _state(n: int) -> np.ndarray:
+    """An orientation vector (3), a quaternion (4) or a quaternion and a gyro bias (7)."""
+    rotation = np.array([0.3, -0.2, 0.5])
+    return rotation if n == 3 else np.r_[quat_from_rotvec(rotation), [0.01, -0.02, 0.005][:n - 4]]
+
+
+def _model_args(model, role: str) -> tuple:
+    x, u, dt = _state(model.dim_x), np.array([1.999, 0.3, -0.4]), 0.01  # u at the gyro's full scale
+    d = np.linspace(0.01, 0.03, model.dim_P)
+    return {"g": (x, u, dt), "G": (x, u, dt), "Q": (dt,), "input_noise": (u, dt), "state_add": (x, d),
+            "residual_x": (x + 0.01 * (model.dim_x == 3), x), "add_jacobian": (x,), "normalize": (1.1 * x,),
+            "normalize_jacobian": (1.1 * x,)}[role]
+
+
+def _cases():
+    for model in ATTITUDE + [f.model for f in KESTEN]:
+        for role in MODEL_ROLES:
+            f = getattr(model, role)
+            if isinstance(f, Kernel):
+                yield f, _model_args(model, role)
+    pairs = [(s, 7) for s in SENSORS] + [(s, f.model.dim_x) for f in KESTEN for s in f.sensors]
+    for sensor, n in pairs:
+        x, c = _state(n), np.array([0.2, 0.05, 0.45])
+        z = np.asarray(sensor.h(x, c) if sensor.dim_c else sensor.h(x)) + 0.01
+        for role in SENSOR_ROLES:
+            f = getattr(sensor, role)
+            if isinstance(f, Kernel):
+                yield f, ((z, z - 0.02) if role == "residual" else (x, c if sensor.dim_c else np.zeros(0)))
+
+
+CASES = list(_cases())
+
+
+@pytest.mark.parametrize("kernel, args", CASES, ids=[f"{k.role}-{k.function.__name__}" for k, _ in CASES])
+def test_each_number_calls_its_tables_kernel(kernel, args):
+    kind = kind_of(kernel)
+    assert kind >= 0, f"{kernel!r} is not in TABLES[{kernel.role!r}]"
+    switched = SWITCHES[kernel.role](kind, *args, kernel.params)
+    direct = kernel.function(*args, kernel.params)
+    for a, b in zip(switched if isinstance(switched, tuple) else (switched,),
+                    direct if isinstance(direct, tuple) else (direct,), strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_every_kernel_in_the_tables_is_bound_by_a_factory():
+    bound = {(k.role, k.function) for k, _ in CASES}
+    unbound = [(role, f.__name__) for role, table in TABLES.items() for f in table if (role, f) not in bound]
+    assert not unbound
+    assert set(TABLES) == set(SWITCHES) == set(MODEL_ROLES + SENSOR_ROLES)
