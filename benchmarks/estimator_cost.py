@@ -1,7 +1,7 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (Kesten's
-filters and the orientation MEKF on the compiled engine, :mod:`quadlib.engine`; the fixed-wing EKF and
-error-state UKF and the 3D quadrotor EKF and UKF also compiled: :mod:`quadlib.fixedwing.compiled`,
-:mod:`quadlib.quad.compiled`).
+filters, the orientation MEKF and the fixed-wing EKFs on the compiled engine, :mod:`quadlib.engine`;
+the fixed-wing error-state UKF, the 3D quadrotor EKF and UKF and the INS also compiled:
+:mod:`quadlib.fixedwing.compiled`, :mod:`quadlib.quad.compiled`, :mod:`quadlib.nav.compiled`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,
@@ -60,7 +60,8 @@ def main() -> None:
     fw = fixedwing_samples(fixedwing_flight(rate_hz=50.0), fw_noise, np.random.default_rng(3))
     for name, factory, n, compiled in (("Salmony EKF, compiled", salmony_ekf, len(fw), True),
                                        ("Salmony EKF, readable run_filter", salmony_ekf, 1000, False),
-                                       ("multiplicative EKF", multiplicative_ekf, 1000, False),
+                                       ("multiplicative EKF, compiled", multiplicative_ekf, len(fw), True),
+                                       ("multiplicative EKF, readable run_filter", multiplicative_ekf, 1000, False),
                                        ("error-state UKF, compiled", error_state_ukf, len(fw), True),
                                        ("error-state UKF, readable run_filter", error_state_ukf, 200, False)):
         part = fw.slice(0, n)

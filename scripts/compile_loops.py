@@ -29,6 +29,7 @@ from quadlib.fixedwing import (
     estimate_fixedwing_attitude,
     fixedwing_flight,
     fixedwing_samples,
+    multiplicative_ekf,
     salmony_ekf,
 )
 from quadlib.imu import ImuNoise
@@ -61,8 +62,9 @@ def main() -> None:
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)
-    for factory in (salmony_ekf, error_state_ukf):  # the fixed-wing filters
+    for factory in (salmony_ekf, multiplicative_ekf, error_state_ukf):  # the fixed-wing filters, both ways
         estimate_fixedwing_attitude(fw_log, noise, factory)
+        estimate_fixedwing_attitude(fw_log.slice(0, 60), noise, factory, compiled=False)
     fly(altitude_step(), 0.1)  # the closed loop's vehicle
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 11's filters

@@ -16,7 +16,7 @@ from __future__ import annotations
 from numba import njit
 
 from quadlib.kernels import attitude as att
-from quadlib.kernels import kesten
+from quadlib.kernels import fixedwing, kesten
 
 __all__ = ["TABLES"]
 
@@ -30,8 +30,10 @@ TABLES = {
     "add_jacobian": (att.attitude_bias_add_jacobian,),
     "normalize": (att.normalize_quaternion,),
     "normalize_jacobian": (att.normalize_quaternion_jacobian,),
-    "h": (att.body_vector, att.field_heading, att.state_slice, kesten.quaternion_rotvec),
-    "H": (att.body_vector_H, att.heading_only_H, att.tilt_aware_heading_H, att.selection_H),
+    "h": (att.body_vector, att.field_heading, att.state_slice, kesten.quaternion_rotvec, fixedwing.airspeed_accel,
+          fixedwing.unit_field),
+    "H": (att.body_vector_H, att.heading_only_H, att.tilt_aware_heading_H, att.selection_H, fixedwing.airspeed_accel_H,
+          fixedwing.unit_field_H),
     "residual": (att.wrapped_difference, kesten.nearest_orientation, kesten.same_sign_quaternion,
                  kesten.rotvec_turn, kesten.turn_between),
 }
@@ -116,7 +118,11 @@ def measure(kind, x, c, p):
         return att.field_heading(x, c, p)
     if kind == 2:
         return att.state_slice(x, c, p)
-    return kesten.quaternion_rotvec(x, c, p)
+    if kind == 3:
+        return kesten.quaternion_rotvec(x, c, p)
+    if kind == 4:
+        return fixedwing.airspeed_accel(x, c, p)
+    return fixedwing.unit_field(x, c, p)
 
 
 @njit(cache=True, inline="always")
@@ -128,7 +134,11 @@ def measurement_jacobian(kind, x, c, p):
         return att.heading_only_H(x, c, p)
     if kind == 2:
         return att.tilt_aware_heading_H(x, c, p)
-    return att.selection_H(x, c, p)
+    if kind == 3:
+        return att.selection_H(x, c, p)
+    if kind == 4:
+        return fixedwing.airspeed_accel_H(x, c, p)
+    return fixedwing.unit_field_H(x, c, p)
 
 
 @njit(cache=True, inline="always")

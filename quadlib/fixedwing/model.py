@@ -40,9 +40,10 @@ from quadlib.attitude.bias_model import (
     quaternion_rate_matrix,
 )
 from quadlib.constants import G0, earth_field_ned
-from quadlib.geometry import kernels
+from quadlib.engine.kernel import Kernel
 from quadlib.geometry.quaternion import as_unit_quaternions
 from quadlib.imu import ImuNoise
+from quadlib.kernels import fixedwing as fw
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
 
@@ -104,37 +105,28 @@ def mag_jacobian(x, declination_rad: float, inclination_rad: float = 0.0) -> np.
     return _mag_jacobian(as_attitude_state("x", x), earth_field_ned(1.0, inclination_rad, declination_rad))
 
 
-# The unchecked versions, called once per sample by the sensors below. R(q) is written as
-# 1 − 2(y² + z²), … on the diagonal (quat_to_dcm's form), which for a unit q equals the
-# homogeneous w² + x² − y² − z², …; the Jacobians are those of this form, off the unit sphere too.
+# The unchecked versions, called once per sample by the sensors below: the kernels of
+# quadlib.kernels.fixedwing, which the compiled engine calls too.
+
+def _accel_kernel(airspeed: bool, g: float = G0, role: str = "h") -> Kernel:
+    return Kernel(role, fw.airspeed_accel if role == "h" else fw.airspeed_accel_H, [g, float(airspeed)],
+                  context=True)
+
 
 def _accel(x, omega, airspeed_m_s, g):
-    w, qx, qy, qz = x[:4].tolist()
-    _, q, r = (omega - x[4:]).tolist()
-    down = (2 * (qx * qz - w * qy), 2 * (qy * qz + w * qx), 1 - 2 * (qx * qx + qy * qy))  # R(q)ᵀ [0, 0, 1]
-    return np.array([-g * down[0], airspeed_m_s * r - g * down[1], -airspeed_m_s * q - g * down[2]])
+    return _accel_kernel(True, g)(x, np.r_[omega, airspeed_m_s])
 
 
 def _accel_jacobian(x, omega, airspeed_m_s, g):
-    q0, q1, q2, q3 = x[:4].tolist()
-    C = np.zeros((3, 7))
-    C[:, :4] = [[2 * g * q2, -2 * g * q3, 2 * g * q0, -2 * g * q1],
-                [-2 * g * q1, -2 * g * q0, -2 * g * q3, -2 * g * q2],
-                [0.0, 4 * g * q1, 4 * g * q2, 0.0]]
-    C[1, 6], C[2, 5] = -airspeed_m_s, airspeed_m_s
-    return C
+    return _accel_kernel(True, g, "H")(x, np.r_[omega, airspeed_m_s])
 
 
 def _mag(x, field_n):
-    q = x[:4]
-    return kernels.dcm(q).T @ field_n + (1.0 - float(q @ q)) * field_n
+    return Kernel("h", fw.unit_field, field_n)(x)
 
 
 def _mag_jacobian(x, field_n):
-    q = x[:4]
-    C = np.zeros((3, 7))
-    C[:, :4] = kernels.body_vector_jacobian(q, field_n) - 2.0 * np.outer(field_n, q)
-    return C
+    return Kernel("H", fw.unit_field_H, field_n)(x)
 
 
 def lowpass2(x, cutoff_hz: float, dt: float) -> np.ndarray:
@@ -221,12 +213,10 @@ def fixedwing_accel_sensor(sigma_m_s2: float, unmodelled_m_s2: float | None = No
     names = ("ax [m/s2]", "ay [m/s2]", "az [m/s2]")
     if unmodelled_m_s2 is None:
         return Sensor(name="accel", measurement_names=names, context_names=GYRO_NAMES + ("V_a [m/s]",),
-                      h=lambda x, c: _accel(x, c[:3], c[3], G0), H=lambda x, c: _accel_jacobian(x, c[:3], c[3], G0),
-                      R=s**2 * np.eye(3))
+                      h=_accel_kernel(True), H=_accel_kernel(True, role="H"), R=s**2 * np.eye(3))
     var = s**2 + as_positive("unmodelled_m_s2", unmodelled_m_s2) ** 2
     return Sensor(name="accel (no airspeed)", measurement_names=names, context_names=GYRO_NAMES,
-                  h=lambda x, c: _accel(x, c, 0.0, G0), H=lambda x, c: _accel_jacobian(x, c, 0.0, G0),
-                  R=var * np.eye(3))
+                  h=_accel_kernel(False), H=_accel_kernel(False, role="H"), R=var * np.eye(3))
 
 
 def fixedwing_mag_sensor(declination_rad: float, sigma: float, inclination_rad: float = 0.0) -> Sensor:
@@ -235,5 +225,5 @@ def fixedwing_mag_sensor(declination_rad: float, sigma: float, inclination_rad: 
     s = as_positive("sigma", sigma)
     field_n = earth_field_ned(1.0, as_finite_number("inclination_rad", inclination_rad),
                               as_finite_number("declination_rad", declination_rad))
-    return Sensor(name="mag", measurement_names=("mx", "my", "mz"), h=lambda x: _mag(x, field_n),
-                  H=lambda x: _mag_jacobian(x, field_n), R=s**2 * np.eye(3))
+    return Sensor(name="mag", measurement_names=("mx", "my", "mz"), h=Kernel("h", fw.unit_field, field_n),
+                  H=Kernel("H", fw.unit_field_H, field_n), R=s**2 * np.eye(3))

@@ -9,13 +9,15 @@ from quadlib.attitude.kesten import FILTERS, AttitudeNoise
 from quadlib.attitude.orientation import gravity_sensor, heading_sensor, zero_rate_sensor
 from quadlib.engine.dispatch import SWITCHES, TABLES, kind_of
 from quadlib.engine.kernel import MODEL_ROLES, SENSOR_ROLES, Kernel
+from quadlib.fixedwing import fixedwing_accel_sensor, fixedwing_mag_sensor
 from quadlib.geometry.quaternion import quat_from_rotvec
 
 RANGE = 2.0
 NOISE = AttitudeNoise(gyro_range_rad_s=RANGE)
 KESTEN = [make(NOISE) for make in FILTERS.values()]
 ATTITUDE = [attitude_bias_model(0.01, 1e-3, RANGE), additive_attitude_bias_model(0.01, 1e-3, RANGE)]
-SENSORS = [gravity_sensor(0.3), heading_sensor(0.1), heading_sensor(0.1, tilt_aware=True), zero_rate_sensor(0.01)]
+SENSORS = [gravity_sensor(0.3), heading_sensor(0.1), heading_sensor(0.1, tilt_aware=True), zero_rate_sensor(0.01),
+           fixedwing_accel_sensor(0.15), fixedwing_accel_sensor(0.15, 3.0), fixedwing_mag_sensor(0.05, 0.01, 1.1)]
 
 
 def _state(n: int) -> np.ndarray:
@@ -40,7 +42,7 @@ def _cases():
                 yield f, _model_args(model, role)
     pairs = [(s, 7) for s in SENSORS] + [(s, f.model.dim_x) for f in KESTEN for s in f.sensors]
     for sensor, n in pairs:
-        x, c = _state(n), np.array([0.2, 0.05, 0.45])
+        x, c = _state(n), np.array([0.2, 0.05, 0.45, 20.0])[:sensor.dim_c]
         z = np.asarray(sensor.h(x, c) if sensor.dim_c else sensor.h(x)) + 0.01
         for role in SENSOR_ROLES:
             f = getattr(sensor, role)

@@ -6,7 +6,8 @@ VQF way of keeping two implementations one). The log has dropouts in every strea
 a clipped gyro, a frozen accelerometer, a repeated timestamp, a field turned away and a push that
 the χ² gates reject for long enough to reset, and a sensor gated as two groups. The public entry
 points (Kesten's filters, the orientation MEKF and its smoother) are compared the same way, and a
-model a user changed gives the changed model's answer.
+model a user changed gives the changed model's answer. The fixed-wing EKFs run on a flight of their
+own, with a failed pitot (tests/fixedwing/test_compiled.py compares their entry point too).
 """
 
 from dataclasses import replace
@@ -28,6 +29,16 @@ from quadlib.attitude.tumble import random_rotation, with_spin
 from quadlib.constants import earth_field_ned
 from quadlib.data import load_broad_trial
 from quadlib.engine import Kernel
+from quadlib.fixedwing import (
+    FixedWingNoise,
+    fixedwing_flight,
+    fixedwing_mag_sensor,
+    fixedwing_measurements,
+    fixedwing_samples,
+    initial_state,
+    multiplicative_ekf,
+    salmony_ekf,
+)
 from quadlib.geometry.quaternion import quat_from_rotvec, quat_multiply, quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
 from quadlib.kernels import attitude as attitude_maths
@@ -112,18 +123,54 @@ CASES |= {
 }
 
 
+def _fixedwing_log() -> ImuLog:
+    """40 s of Salmony's flight at 25 Hz with 5 % of every stream missing, the pitot out for 10 s,
+    the magnetometer turned by 30° for 3 s and a 4 m/s² push for 1 s."""
+    noise = FixedWingNoise()
+    log = fixedwing_samples(fixedwing_flight(rate_hz=25.0), noise, np.random.default_rng(3)).slice(0, 1000)
+    rng = np.random.default_rng(4)
+    gyro, accel, mag, airspeed = (np.array(a) for a in (log.gyro, log.accel, log.mag, log.airspeed))
+    for stream in (gyro, accel, mag, airspeed):
+        stream[rng.random(len(log)) < 0.05] = np.nan
+    gyro[:60], accel[:60], mag[:60] = log.gyro[:60], log.accel[:60], log.mag[:60]  # a still start
+    airspeed[(log.t > 10.0) & (log.t < 20.0)] = np.nan
+    turned = (log.t > 25.0) & (log.t < 28.0)
+    c, s = np.cos(np.radians(30.0)), np.sin(np.radians(30.0))
+    mag[turned] = mag[turned] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]).T
+    accel[(log.t > 32.0) & (log.t < 33.0)] += [4.0, 0.0, 0.0]
+    return ImuLog(log.t, gyro, accel, mag, airspeed)
+
+
+FIXEDWING = _fixedwing_log()
+
+
+def _fixedwing(factory):
+    """A fixed-wing EKF as estimate_fixedwing_attitude builds it, its magnetometer reset after 1 s."""
+    noise = FixedWingNoise()
+    x0 = initial_state(FIXEDWING, 50)
+    mag = replace(fixedwing_mag_sensor(noise.declination_rad, noise.mag_sigma, noise.inclination_rad),
+                  reset_after_s=1.0)
+    measurements = fixedwing_measurements(FIXEDWING, noise.accel_sigma_m_s2, mag)
+    return lambda: factory(x0, noise, 0.04), FIXEDWING.gyro, measurements, 0.999
+
+
+CASES |= {"fixed-wing Salmony EKF": lambda: _fixedwing(salmony_ekf),
+          "fixed-wing multiplicative EKF": lambda: _fixedwing(multiplicative_ekf)}
+
+
 @pytest.mark.parametrize("case", list(CASES))
 def test_the_engine_equals_the_readable_loop(case, assert_same_run):
     make, u, measurements, gate = CASES[case]()
     on_engine, readable = make(), make()
-    compiled = run_filter(on_engine, LOG.t, u, measurements, gate, engine="compiled")
+    t = measurements[0].t
+    compiled = run_filter(on_engine, t, u, measurements, gate, engine="compiled")
     assert compiled.engine == "compiled"
-    expected = run_filter(readable, LOG.t, u, measurements, gate, engine="readable")
+    expected = run_filter(readable, t, u, measurements, gate, engine="readable")
     assert expected.engine == "readable"
     assert_same_run(compiled, expected)
     # the filter is left where the readable one is, and goes on from there alike
     for f in (on_engine, readable):
-        f.predict(LOG.gyro[-2], 0.01)
+        f.predict(u[-2], 0.01)
     np.testing.assert_allclose(on_engine.estimate, readable.estimate, rtol=0, atol=1e-10)
     np.testing.assert_allclose(on_engine.P, readable.P, rtol=0, atol=1e-10)
 
@@ -133,7 +180,7 @@ def test_the_engines_smoother_equals_the_readable_one(case, assert_same_run):
     """The RTS backward pass over each forward run (whatever a gate or a consider update did to it)."""
     make, u, measurements, gate = CASES[case]()
     filt = make()
-    forward = run_filter(filt, LOG.t, u, measurements, gate)
+    forward = run_filter(filt, measurements[0].t, u, measurements, gate)
     compiled = rts_smooth(filt.model, forward, u, engine="compiled")
     assert compiled.engine == "compiled"
     assert_same_run(compiled, rts_smooth(filt.model, forward, u, engine="readable"))
@@ -159,6 +206,10 @@ def test_the_cases_reach_every_branch():
     make, u, measurements, gate = CASES["QKF"]()
     kesten = run_filter(make(), LOG.t, u, measurements, gate)
     assert kesten.sensors["mag"].reset.any() and kesten.sensors["accel"].reset.any()
+    make, u, measurements, gate = CASES["fixed-wing Salmony EKF"]()
+    fixedwing = run_filter(make(), FIXEDWING.t, u, measurements, gate).sensors
+    assert fixedwing["mag"].reset.any() and fixedwing["accel"].rejected.any()
+    assert fixedwing["accel (no airspeed)"].used.sum() > 100  # the failed pitot
 
 
 def test_a_changed_model_gives_the_changed_models_answer():

@@ -1,12 +1,13 @@
-"""The compiled Salmony EKF and error-state UKF give what the readable ones (ModelEKF and ModelUKF
-driven by run_filter) give: the same states, covariances and sensor traces, to 1e-10, through every
-branch — dropouts in every stream, held gyro rows, a failed pitot, gate rejections, a saturated
-gyro, no gate, a prefilter."""
+"""The compiled fixed-wing filters — Salmony's EKF and the multiplicative EKF on the engine, the
+error-state UKF's own loop — give what the readable ones (ModelEKF and ModelUKF driven by
+run_filter) give: the same states, covariances and sensor traces, to 1e-10, through every branch —
+dropouts in every stream, held gyro rows, a failed pitot, gate rejections, a saturated gyro, no
+gate, a prefilter, a repeated timestamp."""
 
 import numpy as np
 import pytest
 
-from quadlib.fixedwing.compiled import error_state_ukf_pass, salmony_pass
+from quadlib.fixedwing.compiled import error_state_ukf_pass
 from quadlib.fixedwing.estimate import (
     FixedWingTuning,
     error_state_ukf,
@@ -53,18 +54,22 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("factory", [salmony_ekf, error_state_ukf], ids=["EKF", "ES-UKF"])
+FILTERS = {"Salmony EKF": salmony_ekf, "multiplicative EKF": multiplicative_ekf, "ES-UKF": error_state_ukf}
+
+
+@pytest.mark.parametrize("factory", list(FILTERS))
 @pytest.mark.parametrize("case", list(CASES))
 def test_the_compiled_loop_equals_the_readable_one(case, factory, assert_same_run):
     log, noise, kw = CASES[case]
-    assert_same_run(estimate_fixedwing_attitude(log, noise, factory, **kw),
-                     estimate_fixedwing_attitude(log, noise, factory, compiled=False, **kw))
+    compiled = estimate_fixedwing_attitude(log, noise, FILTERS[factory], **kw)
+    assert compiled.engine == "compiled"
+    assert_same_run(compiled, estimate_fixedwing_attitude(log, noise, FILTERS[factory], compiled=False, **kw))
 
 
-@pytest.mark.parametrize("factory", [salmony_ekf, error_state_ukf], ids=["EKF", "ES-UKF"])
+@pytest.mark.parametrize("factory", list(FILTERS))
 def test_the_cases_reach_every_branch(factory):
     """The comparisons above are only worth something if each branch happened in them."""
-    run = estimate_fixedwing_attitude(FAULTY, NOISE, factory)
+    run = estimate_fixedwing_attitude(FAULTY, NOISE, FILTERS[factory])
     assert run.held_input.sum() > 50
     for name in ("accel", "accel (no airspeed)", "mag"):
         trace = run.sensors[name]
@@ -73,22 +78,21 @@ def test_the_cases_reach_every_branch(factory):
     assert (np.abs(ROLL_LOG.gyro) >= 0.999 * 30.0).any(axis=1).sum() > 20  # saturated steps
 
 
-def test_other_filters_and_repeated_timestamps_take_the_readable_loop(assert_same_run):
-    """The multiplicative EKF has no compiled twin; a log whose clock repeats a time goes to run_filter,
-    which drops the repeated samples (the compiled loop does not handle them)."""
+@pytest.mark.parametrize("factory", list(FILTERS))
+def test_a_repeated_timestamp_is_dropped_alike(factory, assert_same_run):
+    """run_filter drops a sample whose time repeats the one before within its precision; the engine
+    does the same, and the UKF's loop, which does not, hands such a log to run_filter."""
     short = FAULTY.slice(0, 300)
-    mult = estimate_fixedwing_attitude(short, NOISE, multiplicative_ekf)
-    assert mult.P.shape[1:] == (6, 6)
     t = short.t.copy()
     t[150] = t[149] + 1e-12  # the same time, within the clock's precision
     repeated = ImuLog(t, short.gyro, short.accel, short.mag, short.airspeed)
-    run = estimate_fixedwing_attitude(repeated, NOISE)
+    run = estimate_fixedwing_attitude(repeated, NOISE, FILTERS[factory])
     assert run.sensors["mag"].duplicate[150]
-    assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, compiled=False))
+    assert run.engine == ("readable" if factory == "ES-UKF" else "compiled")
+    assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, FILTERS[factory], compiled=False))
 
 
-@pytest.mark.parametrize("ukf", [False, True], ids=["EKF", "ES-UKF"])
-def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite(ukf):
+def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite():
     """NaN from that step on, instead of an exception inside the loop; the caller then hands the log
     to run_filter, which names the step (or the argument at fault)."""
     log = FAULTY.slice(0, 200)
@@ -96,11 +100,8 @@ def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite(ukf):
     gyro = rates.copy()
     gyro[100] = 1e160  # the predict to step 101: φ·φ overflows
     args = (log.t, gyro, log.accel, np.column_stack([rates, log.airspeed]), log.accel, rates, log.mag,
-            np.r_[1.0, 0, 0, 0, 0, 0, 0], 0.01 * np.eye(6 if ukf else 7), 0.04, 0.005, 1e-4, 0.0,
+            np.r_[1.0, 0, 0, 0, 0, 0, 0], 0.01 * np.eye(6), 0.04, 0.005, 1e-4, 0.0,
             np.stack([np.eye(3)] * 3), np.array([0.4, 0.0, 0.9]), 9.8, 0.0)
-    if ukf:
-        xs, Ps, *_ = error_state_ukf_pass(*args, np.r_[-3.0, [1 / 3] * 12], np.r_[-0.25, [1 / 3] * 12], 1.5)
-    else:
-        xs, Ps, *_ = salmony_pass(*args)
+    xs, Ps, *_ = error_state_ukf_pass(*args, np.r_[-3.0, [1 / 3] * 12], np.r_[-0.25, [1 / 3] * 12], 1.5)
     assert np.isfinite(xs[:101]).all() and np.isfinite(Ps[:101]).all()
     assert np.isnan(xs[101:]).all() and np.isnan(Ps[101:]).all()

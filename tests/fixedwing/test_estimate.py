@@ -71,9 +71,12 @@ def test_the_chapter_can_build_the_ekf_by_hand_and_gets_the_same_run():
     ekf = ModelEKF(fixedwing_model(NOISE.gyro_sigma_rad_s, NOISE.gyro_bias_walk_rad_s_sqrt_s), x0,
                    np.diag([0.1**2] * 4 + [0.02**2] * 3), FLIGHT.dt)
     mag = fixedwing_mag_sensor(NOISE.declination_rad, NOISE.mag_sigma, NOISE.inclination_rad)
-    by_hand = run_filter(ekf, LOG.t, LOG.gyro, fixedwing_measurements(LOG, NOISE.accel_sigma_m_s2, mag),
-                         gate_probability=0.999)
+    measurements = fixedwing_measurements(LOG, NOISE.accel_sigma_m_s2, mag)
+    by_hand = run_filter(ekf, LOG.t, LOG.gyro, measurements, gate_probability=0.999, engine="readable")
     np.testing.assert_array_equal(by_hand.x, _run(compiled=False)[0].x)  # the readable path, bit for bit
+    ekf = ModelEKF(ekf.model, x0, np.diag([0.1**2] * 4 + [0.02**2] * 3), FLIGHT.dt)
+    on_engine = run_filter(ekf, LOG.t, LOG.gyro, measurements, gate_probability=0.999)
+    np.testing.assert_array_equal(on_engine.x, _run()[0].x)  # and the engine's, bit for bit
 
 
 def test_magnetometer_and_airspeed_failures_switch_the_model_per_step():
