@@ -53,6 +53,14 @@ def readable_log_axis(ax, axis: str = "y"):
     return ax
 
 
+def consistency_verdict(value: float, band: tuple[float, float]) -> str:
+    """"consistent" when a mean NEES ``value`` lies inside its χ² ``band``, else "over-confident"
+    (above: the errors are larger than the filter claims) or "pessimistic" (below)."""
+    if value > band[1]:
+        return "over-confident"
+    return "pessimistic" if value < band[0] else "consistent"
+
+
 def plot_chi2_band(t, values, dof: int, *, n_runs: int = 1, probability: float = 0.95, ax=None,
                    name: str = "NEES", label: str | None = None, color: str = "C0", marker: str | None = None,
                    yscale: str = "auto", band_color: str = "C2"):

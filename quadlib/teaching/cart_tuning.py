@@ -19,6 +19,7 @@ from quadlib.analysis.metrics import chi2_interval, rmse
 from quadlib.analysis.montecarlo import run_monte_carlo
 from quadlib.filters import LinearKF
 from quadlib.sim.trajectories import piecewise_constant
+from quadlib.teaching.bands import consistency_verdict
 from quadlib.teaching.cart import cart_model, cart_position_sensor, cart_speed_sensor
 from quadlib.validation import as_count, as_positive, as_times
 
@@ -74,11 +75,8 @@ class CartTuningTrial:
 
     @property
     def verdict(self) -> str:
-        """"consistent" when :attr:`anees` lies inside ``nees_band``, else "over-confident" (above)
-        or "pessimistic" (below)."""
-        if self.anees > self.nees_band[1]:
-            return "over-confident"
-        return "pessimistic" if self.anees < self.nees_band[0] else "consistent"
+        """:func:`~quadlib.teaching.bands.consistency_verdict` of :attr:`anees` and ``nees_band``."""
+        return consistency_verdict(self.anees, self.nees_band)
 
     def summary(self) -> str:
         return (f"told σ_w = {self.sigma_w:.3g} m/s², σ_p = {self.sigma_p:.3g} m, σ_v = {self.sigma_v:.3g} m/s, "

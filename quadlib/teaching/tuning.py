@@ -37,6 +37,7 @@ from quadlib.quad.quad1d import climb_input, quad1d_model, quad1d_range_sensor
 from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
 from quadlib.sim.imu import imu_samples
 from quadlib.sim.simulate import with_dropouts, with_outage, with_outliers
+from quadlib.teaching.bands import consistency_verdict
 from quadlib.validation import as_count, as_positive, as_probability
 
 __all__ = ["LABELS", "ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
@@ -75,11 +76,8 @@ class KfTuningTrial:
 
     @property
     def verdict(self) -> str:
-        """"consistent" when :attr:`anees` lies inside ``nees_band``, else "over-confident" (above)
-        or "pessimistic" (below)."""
-        if self.anees > self.nees_band[1]:
-            return "over-confident"
-        return "pessimistic" if self.anees < self.nees_band[0] else "consistent"
+        """:func:`~quadlib.teaching.bands.consistency_verdict` of :attr:`anees` and ``nees_band``."""
+        return consistency_verdict(self.anees, self.nees_band)
 
     def summary(self) -> str:
         return (f"assumed σ_w = {self.sigma_w:.3g} m/s², σ_r = {self.sigma_r:.3g} m over {self.n_flights} flights: "
