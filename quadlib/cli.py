@@ -36,7 +36,7 @@ def read_log(path: Path):
     """``(imu, flight, reference)``: the IMU log, the PX4 log (or None) and the reference attitude
     as :class:`~quadlib.Samples` of ``q_nb`` (or None)."""
     from quadlib.data import load_broad_trial, load_px4_log, load_ulog
-    from quadlib.imu import ImuLog
+    from quadlib.imu import ImuLog, rates_to_interval_start
 
     if not path.is_file():
         raise FileNotFoundError(f"LOG: no such file: {path}")
@@ -58,8 +58,7 @@ def read_log(path: Path):
         col = {name: data[:, header.index(name)] for name in header if name}
         stack = lambda names: np.column_stack([col[n] for n in names])  # noqa: E731
         mag = stack(MAG_COLUMNS) if all(c in col for c in MAG_COLUMNS) else None
-        gyro = stack(CSV_COLUMNS[1:4])  # each rate moved to the row that starts its interval
-        gyro = np.vstack([gyro[1:], np.full((1, 3), np.nan)])
+        gyro = rates_to_interval_start(stack(CSV_COLUMNS[1:4]))
         return ImuLog(col["t"], gyro, stack(CSV_COLUMNS[4:7]), mag), None, None
     raise ValueError(f"LOG: expected a .ulg, .px4log, .hdf5 or .csv file, got {path.name!r}")
 

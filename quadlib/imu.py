@@ -23,7 +23,8 @@ from quadlib.engine.kernel import Kernel
 from quadlib.kernels.attitude import gyro_saturation
 from quadlib.validation import as_float_array, as_positive, as_times, check_fields
 
-__all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_saturation_noise", "saturated_step_variance"]
+__all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_saturation_noise", "rates_to_interval_start",
+           "saturated_step_variance"]
 
 
 @dataclass(frozen=True)
@@ -154,3 +155,10 @@ class ImuLog:
         s = slice(start, stop)
         return ImuLog(self.t[s], self.gyro[s], self.accel[s], None if self.mag is None else self.mag[s],
                       None if self.airspeed is None else self.airspeed[s])
+
+
+def rates_to_interval_start(gyro: np.ndarray) -> np.ndarray:
+    """Gyro rows stamped at the end of their interval, ``gyro[k]`` over ``(t[k−1], t[k]]`` (VQF, BROAD,
+    most IMUs), moved to :class:`ImuLog`'s convention, ``gyro[k]`` over ``[t[k], t[k+1])``: each row
+    one earlier, the last (the rate after the log ends) NaN."""
+    return np.vstack([gyro[1:], np.full((1, gyro.shape[1]), np.nan)])

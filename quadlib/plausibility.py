@@ -24,6 +24,7 @@ import warnings
 import numpy as np
 
 from quadlib.constants import G0
+from quadlib.geometry.quaternion import quat_from_rotvec, quat_to_dcm
 
 __all__ = ["check_gps_metres", "check_imu_units", "check_mag_frame", "warn_unused"]
 
@@ -59,14 +60,6 @@ def check_imu_units(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray, names=("
                          f"{ratio:.0f} times worse than the same numbers read as °/s: multiply by π/180")
 
 
-def _turned(u: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """``exp(−[θ]×) u`` row by row (Rodrigues): a body-frame direction after the body turned by θ."""
-    angle = np.linalg.norm(theta, axis=1, keepdims=True)
-    axis = theta / np.where(angle > 0, angle, 1.0)
-    c, s_ = np.cos(angle), np.sin(angle)
-    return u * c - np.cross(axis, u) * s_ + axis * np.sum(axis * u, axis=1, keepdims=True) * (1 - c)
-
-
 def _prediction_errors(t, gyro, vectors, usable, scales, window_s: float = 0.2, min_turn_rad: float = 0.1):
     """Median error of predicting a body-frame direction ``window_s`` ahead by turning it with the
     gyro's integral times each of ``scales`` (0: not turned), over windows whose ends are
@@ -84,7 +77,11 @@ def _prediction_errors(t, gyro, vectors, usable, scales, window_s: float = 0.2, 
     if k.size < 50:
         return None
     u = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
-    return [float(np.median(np.linalg.norm(u[k + step] - _turned(u[k], scale * theta), axis=1))) for scale in scales]
+    errors = []
+    for scale in scales:  # the body turned by scale·θ sees a fixed direction turned back: R(θ)ᵀ u
+        predicted = np.einsum("nji,nj->ni", quat_to_dcm(quat_from_rotvec(scale * theta)), u[k])
+        errors.append(float(np.median(np.linalg.norm(u[k + step] - predicted, axis=1))))
+    return errors
 
 
 def degrees_likelier(t: np.ndarray, gyro: np.ndarray, accel: np.ndarray) -> float | None:

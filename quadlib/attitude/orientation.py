@@ -29,7 +29,7 @@ from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
-from quadlib.imu import ImuLog, as_imu_stream
+from quadlib.imu import ImuLog, as_imu_stream, rates_to_interval_start
 from quadlib.kernels import attitude as attitude_maths
 from quadlib.model import Sensor
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
@@ -315,7 +315,7 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
         t = as_times("t", t)
         n = t.size
         gyr = as_imu_stream("gyr", gyr, n)
-        log = ImuLog(t, np.vstack([gyr[1:], np.full((1, 3), np.nan)]), as_imu_stream("acc", acc, n),
+        log = ImuLog(t, rates_to_interval_start(gyr), as_imu_stream("acc", acc, n),
                      as_imu_stream("mag", mag, n, required=False))
         names = ("t", "gyr", "acc")
     check_imu_units(log.t, log.gyro, log.accel, names)

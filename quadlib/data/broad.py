@@ -38,7 +38,7 @@ import numpy as np
 
 from quadlib.data.paths import PROJECT_ROOT, DataCorruptError, data_path
 from quadlib.geometry.quaternion import quat_conjugate, quat_multiply, quat_to_rotvec
-from quadlib.imu import ImuLog
+from quadlib.imu import ImuLog, rates_to_interval_start
 from quadlib.validation import as_count
 
 __all__ = ["ENU_TO_NED", "BroadTrial", "broad_trial_names", "gyro_truth_mismatch_deg", "load_broad_trial"]
@@ -120,7 +120,7 @@ def load_broad_trial(trial: str | os.PathLike) -> BroadTrial:
     q_nb = quat_multiply(ENU_TO_NED, np.where(np.isnan(q_enu), 0.0, q_enu))
     q_nb[np.isnan(q_enu).any(axis=1)] = np.nan
     t = np.arange(n) / rate
-    gyr = np.vstack([gyr[1:], np.full((1, 3), np.nan)])  # rates over [t[k], t[k+1]): see the module's notes
+    gyr = rates_to_interval_start(gyr)  # see the module's notes
     return BroadTrial(name=path.stem, log=ImuLog(t, gyr, acc, mag), q_nb=q_nb, movement=movement,
                       position_m=pos_enu @ c.T, info=info)
 
