@@ -16,14 +16,14 @@ from __future__ import annotations
 from numba import njit
 
 from quadlib.kernels import attitude as att
-from quadlib.kernels import fixedwing, kesten
+from quadlib.kernels import fixedwing, ins, kesten
 
 __all__ = ["TABLES"]
 
 TABLES = {
-    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step),
-    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian),
-    "Q": (att.gyro_noise,),
+    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step, ins.strapdown_step),
+    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian, ins.strapdown_error_jacobian),
+    "Q": (att.gyro_noise, ins.strapdown_noise),
     "input_noise": (att.gyro_saturation,),
     "state_add": (att.attitude_bias_add, kesten.rotation_blocks_add),
     "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference),
@@ -31,9 +31,9 @@ TABLES = {
     "normalize": (att.normalize_quaternion,),
     "normalize_jacobian": (att.normalize_quaternion_jacobian,),
     "h": (att.body_vector, att.field_heading, att.state_slice, kesten.quaternion_rotvec, fixedwing.airspeed_accel,
-          fixedwing.unit_field),
+          fixedwing.unit_field, att.linear_map),
     "H": (att.body_vector_H, att.heading_only_H, att.tilt_aware_heading_H, att.selection_H, fixedwing.airspeed_accel_H,
-          fixedwing.unit_field_H),
+          fixedwing.unit_field_H, att.linear_map_H),
     "residual": (att.wrapped_difference, kesten.nearest_orientation, kesten.same_sign_quaternion,
                  kesten.rotvec_turn, kesten.turn_between),
 }
@@ -50,7 +50,9 @@ def transition(kind, x, u, dt, p):
         return att.attitude_bias_step(x, u, dt, p)
     if kind == 1:
         return kesten.quaternion_step(x, u, dt, p)
-    return kesten.orientation_vector_step(x, u, dt, p)
+    if kind == 2:
+        return kesten.orientation_vector_step(x, u, dt, p)
+    return ins.strapdown_step(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -60,13 +62,17 @@ def jacobian(kind, x, u, dt, p):
         return att.attitude_error_jacobian(x, u, dt, p)
     if kind == 1:
         return att.attitude_step_jacobian(x, u, dt, p)
-    return att.identity_jacobian(x, u, dt, p)
+    if kind == 2:
+        return att.identity_jacobian(x, u, dt, p)
+    return ins.strapdown_error_jacobian(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
 def process_noise(kind, dt, p):
     """``Q(dt)``."""
-    return att.gyro_noise(dt, p)
+    if kind == 0:
+        return att.gyro_noise(dt, p)
+    return ins.strapdown_noise(dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -122,7 +128,9 @@ def measure(kind, x, c, p):
         return kesten.quaternion_rotvec(x, c, p)
     if kind == 4:
         return fixedwing.airspeed_accel(x, c, p)
-    return fixedwing.unit_field(x, c, p)
+    if kind == 5:
+        return fixedwing.unit_field(x, c, p)
+    return att.linear_map(x, c, p)
 
 
 @njit(cache=True, inline="always")
@@ -138,7 +146,9 @@ def measurement_jacobian(kind, x, c, p):
         return att.selection_H(x, c, p)
     if kind == 4:
         return fixedwing.airspeed_accel_H(x, c, p)
-    return fixedwing.unit_field_H(x, c, p)
+    if kind == 5:
+        return fixedwing.unit_field_H(x, c, p)
+    return att.linear_map_H(x, c, p)
 
 
 @njit(cache=True, inline="always")

@@ -6,7 +6,8 @@ State ``x = [q_nb (4), b (3)]`` (or the quaternion alone), input the gyro ``ω``
 :func:`~quadlib.attitude.bias_model.additive_attitude_bias_model` (the model) and
 :func:`~quadlib.attitude.orientation.gravity_sensor`, :func:`~quadlib.attitude.orientation.heading_sensor`
 and :func:`~quadlib.attitude.orientation.zero_rate_sensor` (the sensors), which bind these.
-Besides them, the pieces any model uses: an identity Jacobian, a selection of states and its Jacobian.
+Besides them, the pieces any model uses: an identity Jacobian, a selection of states, a linear
+measurement ``A x``, and their Jacobians.
 """
 
 from __future__ import annotations
@@ -229,6 +230,25 @@ def selection_H(x, c, p):
     for i in range(k):
         H[i, a + i] = 1.0
     return H
+
+
+@njit(cache=True)
+def linear_map(x, c, p):
+    """``h = A x``, ``p = [m, n, A (m × n) row by row]``: states picked (GPS), turned in sign (the
+    barometer's height ``−p_d``) or combined."""
+    m, n = int(p[0]), int(p[1])
+    out = np.zeros(m)
+    for i in range(m):
+        for j in range(n):
+            out[i] += p[2 + i * n + j] * x[j]
+    return out
+
+
+@njit(cache=True)
+def linear_map_H(x, c, p):
+    """``H = A`` of :func:`linear_map`."""
+    m, n = int(p[0]), int(p[1])
+    return p[2:2 + m * n].copy().reshape(m, n)
 
 
 @njit(cache=True)

@@ -38,22 +38,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.attitude.bias_model import gyro_error_jacobians
 from quadlib.attitude.checks import SensorChecks, plausible_mag
 from quadlib.attitude.orientation import heading_sensor
-from quadlib.compiled_kernels import corrected_mask
 from quadlib.constants import GRAVITY_N
+from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
-from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
+from quadlib.kernels import attitude as attitude_maths
+from quadlib.kernels import ins as ins_maths
 from quadlib.model import Model, Sensor
-from quadlib.model_filter import group_gates
-from quadlib.nav import compiled
 from quadlib.plausibility import check_gps_metres, check_imu_units, check_mag_frame, warn_unused
-from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, rts_smooth, run_filter
-from quadlib.samples import Measurements, Samples, time_resolution
+from quadlib.replay import FilterRun, rts_smooth, run_filter
+from quadlib.samples import Measurements, Samples
 from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
 
 __all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
@@ -68,51 +66,20 @@ Q_, V, P, BG, BA = slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(
 GYRO_BIAS_ERRORS = (9, 10, 11)  # in δx
 
 
-def _step(x, u, dt):
-    q = x[Q_]
-    f = u[3:] - x[BA]
-    a = kernels.dcm(q) @ f + GRAVITY_N
-    out = x.copy()
-    out[Q_] = kernels.multiply(q, kernels.exp_rotvec((u[:3] - x[BG]) * dt))
-    out[V] = x[V] + a * dt
-    out[P] = x[P] + x[V] * dt + 0.5 * a * dt * dt
-    return out
+# the kernels both the readable filter and the compiled engine call (quadlib.kernels.ins; the error's
+# ⊞, ⊟, ∂⊞/∂δ and the normalisation are the attitude model's: the quaternion first, the rest added)
+_add_error = Kernel("state_add", attitude_maths.attitude_bias_add)
+_error_between = Kernel("residual_x", attitude_maths.attitude_bias_difference)
+_add_jacobian = Kernel("add_jacobian", attitude_maths.attitude_bias_add_jacobian)
+_normalized = Kernel("normalize", attitude_maths.normalize_quaternion)
+_step = Kernel("g", ins_maths.strapdown_step, GRAVITY_N)
+_error_jacobian = Kernel("G", ins_maths.strapdown_error_jacobian)
 
 
-def _error_jacobian(x, u, dt):
-    R = kernels.dcm(x[Q_])
-    f = u[3:] - x[BA]
-    F = np.eye(15)
-    F[0:3, 0:3], F[0:3, 9:12] = gyro_error_jacobians((u[:3] - x[BG]) * dt, dt)
-    dv_dtheta, dv_dba = -dt * R @ kernels.skew(f), -dt * R
-    F[3:6, 0:3], F[3:6, 12:15] = dv_dtheta, dv_dba
-    F[6:9, 0:3], F[6:9, 12:15] = 0.5 * dt * dv_dtheta, 0.5 * dt * dv_dba
-    F[6:9, 3:6] = dt * np.eye(3)
-    return F
-
-
-def _add_error(x, e):
-    out = x.copy()
-    out[Q_] = kernels.multiply(x[Q_], kernels.exp_rotvec(e[0:3]))
-    out[4:] = x[4:] + e[3:]
-    return out
-
-
-def _error_between(x1, x0):
-    return np.concatenate([kernels.rotvec(kernels.multiply(kernels.conjugate(x0[Q_]), x1[Q_])), x1[4:] - x0[4:]])
-
-
-def _add_jacobian(x):
-    J = np.zeros((16, 15))
-    J[0:4, 0:3] = 0.5 * kernels.rate_matrix(x[Q_])
-    J[4:, 3:] = np.eye(12)
-    return J
-
-
-def _normalized(x):
-    out = x.copy()
-    out[Q_] = kernels.normalize(x[Q_])
-    return out
+def _linear_sensor(A: np.ndarray) -> tuple[Kernel, Kernel]:
+    """``h(x) = A x`` and ``H = A`` as kernels."""
+    p = np.r_[A.shape, A.ravel()]
+    return Kernel("h", attitude_maths.linear_map, p), Kernel("H", attitude_maths.linear_map_H, p)
 
 
 def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_rad_s_sqrt_s: float,
@@ -120,8 +87,7 @@ def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_r
     """The inertial navigation model (module documentation) with white input noise.
 
     ``gyro_sigma_rad_s`` and ``accel_sigma_m_s2`` (one σ, or one per axis) are the σ of one input
-    sample; over a step they
-    enter the attitude as ``σ_g Δt`` and the velocity as ``σ_a Δt`` (and the position as
+    sample; over a step they enter the attitude as ``σ_g Δt`` and the velocity as ``σ_a Δt`` (and the position as
     ``σ_a Δt²/2``, fully correlated with it). The biases walk by ``σ √Δt`` per step.
     """
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
@@ -132,18 +98,7 @@ def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_r
     sbg = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
     sba = as_positive("accel_bias_walk_m_s2_sqrt_s", accel_bias_walk_m_s2_sqrt_s)
 
-    i, sa2 = np.arange(3), sa**2
-
-    def Q(dt):
-        Qm = np.zeros((15, 15))
-        Qm[i, i] = (sg * dt) ** 2
-        Qm[3 + i, 3 + i] = sa2 * dt**2  # velocity and position share one acceleration error
-        Qm[6 + i, 6 + i] = sa2 * dt**4 / 4.0
-        Qm[3 + i, 6 + i] = Qm[6 + i, 3 + i] = sa2 * dt**3 / 2.0
-        Qm[9 + i, 9 + i] = sbg**2 * dt
-        Qm[12 + i, 12 + i] = sba**2 * dt
-        return Qm  # per body axis; isotropic noise is the same in NED
-
+    Q = Kernel("Q", ins_maths.strapdown_noise, [sg, *sa, sbg, sba])  # per body axis (isotropic: the same in NED)
     return Model(state_names=STATE_NAMES, input_names=INPUT_NAMES, g=_step, G=_error_jacobian, Q=Q,
                  error_names=ERROR_NAMES, state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
                  normalize=_normalized, name="inertial navigation, error state")
@@ -162,21 +117,22 @@ def ins_gps_sensor(pos_sigma_m, vel_sigma_m_s, use_height: bool = True, reset_af
     if not isinstance(use_height, bool):
         raise TypeError(f"use_height: expected True or False, got {use_height!r}")
     rows = [0, 1, 2, 3, 4, 5] if use_height else [0, 1, 3, 4, 5]
-    index = np.r_[P, V][rows]  # state index of each component
-    H = np.zeros((len(rows), 16))
-    H[np.arange(len(rows)), index] = 1.0
+    A = np.zeros((len(rows), 16))
+    A[np.arange(len(rows)), np.r_[P, V][rows]] = 1.0  # each component measures one state
+    h, H = _linear_sensor(A)
     names = np.array(["pn [m]", "pe [m]", "pd [m]", "vn [m/s]", "ve [m/s]", "vd [m/s]"])[rows]
     n_pos = 3 if use_height else 2
-    return Sensor(name="gps", measurement_names=tuple(names), h=lambda x: x[index], H=lambda x: H,
+    return Sensor(name="gps", measurement_names=tuple(names), h=h, H=H,
                   R=np.diag(sigma[rows] ** 2), groups=(tuple(range(n_pos)), tuple(range(n_pos, len(rows)))),
                   reset_after_s=reset_after_s)
 
 
 def ins_baro_sensor(sigma_m: float) -> Sensor:
     """Barometric height above the origin [m]: ``h(x) = −p_d``."""
-    H = np.zeros((1, 16))
-    H[0, 9] = -1.0
-    return Sensor(name="baro", measurement_names=("height [m]",), h=lambda x: -x[9:10], H=lambda x: H,
+    A = np.zeros((1, 16))
+    A[0, 9] = -1.0
+    h, H = _linear_sensor(A)
+    return Sensor(name="baro", measurement_names=("height [m]",), h=h, H=H,
                   R=np.full((1, 1), as_positive("sigma_m", sigma_m) ** 2))
 
 
@@ -347,9 +303,10 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     x0 : (16,) array_like, optional
         Initial state; by default :func:`ins_initial_state` at the first fix.
     compiled : bool
-        Run the same steps compiled (:mod:`~quadlib.nav.compiled`; equal to the readable filter to
-        1e-10, tested); False runs :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.run_filter`
-        (and :func:`~quadlib.rts_smooth`), as chapter 17 builds it.
+        Run :class:`~quadlib.ModelEKF` on the compiled engine (:mod:`quadlib.engine`; the same
+        kernels, equal to the readable filter to 1e-10, tested); False drives it with the readable
+        loop of :func:`~quadlib.run_filter` (and :func:`~quadlib.rts_smooth`), as chapter 17
+        builds it. ``run.engine`` says which ran.
 
     Returns
     -------
@@ -413,60 +370,7 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline, dim_x=16,
                                  gyro_bias_errors=GYRO_BIAS_ERRORS, tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
-    run = _compiled_run(ekf, t, u, measurements, params, decimate) if compiled else None
-    if run is not None:
-        warn_unused(run.sensors)
-        return _compiled_smooth(run, u, params, decimate) if offline else run
-    run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability)
+    engine = "auto" if compiled else "readable"
+    run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability, engine=engine)
     warn_unused(run.sensors)
-    return rts_smooth(model, run, u) if offline else run
-
-
-def _compiled_run(ekf: ModelEKF, t: np.ndarray, u: np.ndarray, measurements: list, params: InsParams,
-                  decimate: int) -> FilterRun | None:
-    """What ``run_filter(ekf, t, u, measurements, params.gate_probability)`` returns, from
-    :func:`~quadlib.nav.compiled.ins_pass`; None if the estimate became non-finite or a sample lies
-    outside ``t`` (the readable loop then names where)."""
-    u, held = held_inputs(ekf.model, u, t.size)
-    planned = compiled_schedule(ekf, t, time_resolution(t), measurements)
-    if planned is None:
-        return None
-    per_sensor, (steps, sensors, samples) = planned
-    kind = {"gps": compiled.GPS, "baro": compiled.BARO, "heading": compiled.HEADING}
-    by_kind = {kind[m.sensor.name]: m for m in measurements}
-    p = params.gate_probability
-
-    def gates(sensor):
-        return np.array(group_gates(sensor, p) if p is not None and sensor.gated else [0.0] * len(sensor.groups))
-
-    gps, baro, heading = (by_kind.get(k) for k in (compiled.GPS, compiled.BARO, compiled.HEADING))
-    gps_index = gps.sensor.H(ekf.nominal).argmax(axis=1)  # a GPS component measures one state
-    gps_group = np.zeros(gps.sensor.dim_z, np.int64)
-    for g, rows in enumerate(gps.sensor.groups):
-        gps_group[list(rows)] = g
-    absent = Measurements(ins_baro_sensor(1.0), np.zeros(0), np.zeros((0, 1)))  # a sensor the log lacks
-    baro, heading = (absent if m is None else m for m in (baro, heading))
-    heading_context = np.zeros((0, 3)) if heading.context is None else heading.context
-    xs, Ps, *traces = compiled.ins_pass(
-        t, u, steps, np.array([kind[m.sensor.name] for m in measurements])[sensors], samples, ekf.nominal, ekf.P,
-        ekf.dt, *params.noise(decimate), GRAVITY_N, gps.t, gps.z, gps_index, gps_group,
-        gates(gps.sensor), gps.sensor.R, gps.sensor.reset_after_s or 0.0, baro.z,
-        gates(baro.sensor)[0], baro.sensor.R, heading.z, heading_context,
-        gates(heading.sensor)[0], heading.sensor.R, corrected_mask(15, heading.sensor.uncorrected),
-        params.heading_tilt_aware)
-    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
-    out = {}
-    for m, (_, missing, duplicate) in zip(measurements, per_sensor, strict=True):
-        innovation, S, nis, used, rejected, reset = traces[kind[m.sensor.name]]
-        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=used, rejected=rejected,
-                                         reset=reset, missing=missing, duplicate=duplicate)
-    return FilterRun(t=t, x=xs, P=Ps, sensors=out, held_input=held)
-
-
-def _compiled_smooth(run: FilterRun, u: np.ndarray, params: InsParams, decimate: int) -> FilterRun:
-    """What ``rts_smooth(params.model(decimate), run, u)`` returns, from
-    :func:`~quadlib.nav.compiled.ins_rts_pass`."""
-    u, _ = held_inputs(params.model(decimate), u, run.t.size)
-    xs, Ps = compiled.ins_rts_pass(run.t, u, run.x, run.P, *params.noise(decimate), GRAVITY_N)
-    return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input)
+    return rts_smooth(model, run, u, engine=engine) if offline else run

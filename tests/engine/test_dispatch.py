@@ -11,23 +11,31 @@ from quadlib.engine.dispatch import SWITCHES, TABLES, kind_of
 from quadlib.engine.kernel import MODEL_ROLES, SENSOR_ROLES, Kernel
 from quadlib.fixedwing import fixedwing_accel_sensor, fixedwing_mag_sensor
 from quadlib.geometry.quaternion import quat_from_rotvec
+from quadlib.nav import InsParams, ins_baro_sensor, ins_gps_sensor
 
 RANGE = 2.0
 NOISE = AttitudeNoise(gyro_range_rad_s=RANGE)
 KESTEN = [make(NOISE) for make in FILTERS.values()]
-ATTITUDE = [attitude_bias_model(0.01, 1e-3, RANGE), additive_attitude_bias_model(0.01, 1e-3, RANGE)]
+ATTITUDE = [attitude_bias_model(0.01, 1e-3, RANGE), additive_attitude_bias_model(0.01, 1e-3, RANGE),
+            InsParams().model()]
 SENSORS = [gravity_sensor(0.3), heading_sensor(0.1), heading_sensor(0.1, tilt_aware=True), zero_rate_sensor(0.01),
            fixedwing_accel_sensor(0.15), fixedwing_accel_sensor(0.15, 3.0), fixedwing_mag_sensor(0.05, 0.01, 1.1)]
+INS_SENSORS = [ins_gps_sensor([1.0] * 3, [0.1] * 3), ins_gps_sensor([1.0] * 3, [0.1] * 3, use_height=False),
+               ins_baro_sensor(0.5),
+               heading_sensor(0.1, dim_x=16, gyro_bias_errors=(9, 10, 11))]
 
 
 def _state(n: int) -> np.ndarray:
-    """An orientation vector (3), a quaternion (4) or a quaternion and a gyro bias (7)."""
+    """An orientation vector (3), a quaternion (4), a quaternion and a gyro bias (7), or the INS's
+    quaternion, velocity, position and biases (16)."""
     rotation = np.array([0.3, -0.2, 0.5])
-    return rotation if n == 3 else np.r_[quat_from_rotvec(rotation), [0.01, -0.02, 0.005][:n - 4]]
+    rest = [0.01, -0.02, 0.005] if n < 16 else [3.0, -1.0, 0.5, 10.0, 20.0, -5.0, 0.01, -0.02, 0.005, 0.1, -0.2, 0.05]
+    return rotation if n == 3 else np.r_[quat_from_rotvec(rotation), rest[:n - 4]]
 
 
 def _model_args(model, role: str) -> tuple:
-    x, u, dt = _state(model.dim_x), np.array([1.999, 0.3, -0.4]), 0.01  # u at the gyro's full scale
+    # u at the gyro's full scale (and the INS's accelerometer)
+    x, u, dt = _state(model.dim_x), np.array([1.999, 0.3, -0.4, 0.5, -0.2, -9.6])[:model.dim_u], 0.01
     d = np.linspace(0.01, 0.03, model.dim_P)
     return {"g": (x, u, dt), "G": (x, u, dt), "Q": (dt,), "input_noise": (u, dt), "state_add": (x, d),
             "residual_x": (x + 0.01 * (model.dim_x == 3), x), "add_jacobian": (x,), "normalize": (1.1 * x,),
@@ -41,6 +49,7 @@ def _cases():
             if isinstance(f, Kernel):
                 yield f, _model_args(model, role)
     pairs = [(s, 7) for s in SENSORS] + [(s, f.model.dim_x) for f in KESTEN for s in f.sensors]
+    pairs += [(s, 16) for s in INS_SENSORS]
     for sensor, n in pairs:
         x, c = _state(n), np.array([0.2, 0.05, 0.45, 20.0])[:sensor.dim_c]
         z = np.asarray(sensor.h(x, c) if sensor.dim_c else sensor.h(x)) + 0.01
