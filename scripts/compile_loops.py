@@ -70,9 +70,10 @@ def main() -> None:
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 11's filters
         estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)
     px4 = load_px4_log()
-    for tilt_aware in (False, True):  # the inertial navigation filter, forward and smoothed
-        estimate_ins(px4.imu.slice(0, 800), px4.gps, px4.baro, InsParams(heading_tilt_aware=tilt_aware),
-                     offline=not tilt_aware)
+    for tilt_aware in (False, True):  # the inertial navigation filter, forward and smoothed, both ways
+        for compiled, rows in ((True, 800), (False, 200)):
+            estimate_ins(px4.imu.slice(0, rows), px4.gps, px4.baro, InsParams(heading_tilt_aware=tilt_aware),
+                         offline=not tilt_aware, compiled=compiled)
     print(f"numba loops compiled or loaded from the cache in {time.perf_counter() - start:.1f} s")
 
 

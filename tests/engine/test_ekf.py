@@ -7,7 +7,9 @@ a clipped gyro, a frozen accelerometer, a repeated timestamp, a field turned awa
 the χ² gates reject for long enough to reset, and a sensor gated as two groups. The public entry
 points (Kesten's filters, the orientation MEKF and its smoother) are compared the same way, and a
 model a user changed gives the changed model's answer. The fixed-wing EKFs run on a flight of their
-own, with a failed pitot (tests/fixedwing/test_compiled.py compares their entry point too).
+own, with a failed pitot (tests/fixedwing/test_compiled.py compares their entry point too); the
+inertial navigation EKF, whose grid is the IMU's rather than a sensor's, on the PX4 flight with faults
+added (tests/nav/test_compiled.py).
 """
 
 from dataclasses import replace
