@@ -1,10 +1,11 @@
-"""The numba kernels the compiled filters share: one-quaternion maths (twins of
-:mod:`quadlib.geometry.kernels`), the Kalman update and the Cholesky factor of the sigma points.
+"""The numba kernels the compiled filters share besides the one-quaternion maths
+(:mod:`quadlib.geometry.kernels`): small matrix products and inverses, the Kalman update, the
+Cholesky factor of the sigma points, the attitude-and-bias error Jacobian.
 
 Every function here is plain arithmetic on small arrays, compiled by numba; the compiled filters
 (:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`, :mod:`quadlib.fixedwing.compiled`,
-:mod:`quadlib.quad.compiled`)
-are proved equal to their readable twins by their tests, and with them these kernels.
+:mod:`quadlib.quad.compiled`) are proved equal to their readable twins by their tests, and with them
+these kernels.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.constants import SATURATED
+from quadlib.geometry.kernels import dcm, exp_rotvec, skew
 
 __all__: list[str] = []  # internal: the compiled filters use these
 
@@ -34,66 +36,12 @@ def called_from_python(loop):
     return call
 
 
-@njit(cache=True)
-def multiply(p, q):
-    return np.array([p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3],
-                     p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2],
-                     p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1],
-                     p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0]])
 
 
-@njit(cache=True)
-def exp_rotvec(v):
-    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
-    return np.array([math.cos(0.5 * angle), half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]])
 
 
-@njit(cache=True)
-def matrix(rows, cols, values):
-    """A ``(rows, cols)`` array from a flat tuple of ``values``, row by row: numba builds one from
-    nested lists about five times slower than the arithmetic that fills a 3 × 3 rotation."""
-    out = np.empty((rows, cols))
-    for i in range(rows):
-        for j in range(cols):
-            out[i, j] = values[i * cols + j]
-    return out
 
 
-@njit(cache=True)
-def dcm(q):
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    ww, xx, yy, zz = w * w, x * x, y * y, z * z
-    return matrix(3, 3, (ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y),
-                         2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x),
-                         2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz))
-
-
-@njit(cache=True)
-def rate_matrix(q):
-    return matrix(4, 3, (-q[1], -q[2], -q[3], q[0], -q[3], q[2], q[3], q[0], -q[1], -q[2], q[1], q[0]))
-
-
-@njit(cache=True)
-def normalize(q):
-    return q / math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-
-
-@njit(cache=True)
-def skew(v):
-    return matrix(3, 3, (0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0))
-
-
-@njit(cache=True)
-def body_vector_jacobian(q, v):
-    """``∂(R(q)ᵀ v)/∂q`` (:func:`~quadlib.geometry.kernels.body_vector_jacobian`)."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    vx, vy, vz = v[0], v[1], v[2]
-    rv = x * vx + y * vy + z * vz
-    return 2.0 * matrix(3, 4, (
-        w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy,
-        w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx,
-        w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv))
 
 
 @njit(cache=True)
@@ -178,24 +126,6 @@ def kalman_update(P, H, y, R, corrected, gate):
     return e, P_new, nis, S, True
 
 
-def corrected_mask(n, uncorrected=()):
-    """The ``corrected`` mask of :func:`kalman_update` for ``n`` error states: all but ``uncorrected``."""
-    mask = np.ones(n, np.bool_)
-    mask[list(uncorrected)] = False
-    return mask
-
-
-@njit(cache=True)
-def rotvec(q):
-    """The rotation vector of a unit quaternion, the shorter way round
-    (:func:`~quadlib.geometry.quaternion.quat_to_rotvec`)."""
-    if q[0] < 0.0:
-        q = -q
-    s = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-    angle = 2.0 * math.atan2(s, q[0])
-    scale = angle / s if s > 1e-8 else 2.0 + angle**2 / 12.0
-    return np.array([scale * q[1], scale * q[2], scale * q[3]])
-
 
 @njit(cache=True)
 def upper_cholesky(A):
@@ -243,15 +173,6 @@ def attitude_bias_jacobian(phi, dt):
     G[:3, 3:] = -dt * (np.eye(3) - a * K + b * product(K, K))
     return G
 
-
-@njit(cache=True)
-def euler_dcm(roll, pitch, yaw):
-    """``R_nb = R_z(ψ) R_y(θ) R_x(φ)`` (:func:`~quadlib.geometry.kernels.euler_dcm`)."""
-    cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return matrix(3, 3, (cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy,
-                         cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy,
-                         -sp, cp * sr, cp * cr))
 
 
 @njit(cache=True)

@@ -1,11 +1,12 @@
-"""One quaternion at a time, unchecked: the inner steps of the attitude filters.
+"""One quaternion at a time, unchecked, compiled: the inner steps of every attitude filter.
 
 :mod:`quadlib.geometry.quaternion` checks every argument and works on stacks; a filter that has
 validated its whole log calls these instead, once per sample, on one ``(4,)`` quaternion and
-``(3,)`` vectors of floats. They compute the same as their checked namesakes (tested to 1e-15);
-with Python floats instead of numpy's element-wise operations on 4 numbers, and without the
-checks, they cost about a tenth as much. No argument is checked here: give them finite float
-arrays of the right length.
+``(3,)`` vectors of floats. They compute the same as their checked namesakes (tested to 1e-15).
+numba compiles them, so the readable filters call them from Python and the compiled loops
+(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels` …) from inside: one
+implementation. No argument is checked here: give them finite float arrays of the right length
+(C-contiguous and writable, or numba compiles another version for the layout).
 """
 
 from __future__ import annotations
@@ -13,30 +14,33 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 __all__ = ["body_vector_jacobian", "conjugate", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "from_euler",
-           "multiply", "normalize", "rate_matrix", "rotvec", "skew", "to_euler"]
+           "matrix", "multiply", "normalize", "rate_matrix", "rotvec", "skew", "to_euler"]
 
 
-def multiply(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def multiply(p, q):
     """``p ⊗ q`` (:func:`~quadlib.geometry.quaternion.quat_multiply`)."""
-    pw, px, py, pz = p.tolist()
-    qw, qx, qy, qz = q.tolist()
-    return np.array([pw * qw - px * qx - py * qy - pz * qz, pw * qx + px * qw + py * qz - pz * qy,
-                     pw * qy - px * qz + py * qw + pz * qx, pw * qz + px * qy - py * qx + pz * qw])
+    return np.array([p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3],
+                     p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2],
+                     p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1],
+                     p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0]])
 
 
-def exp_rotvec(v: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def exp_rotvec(v):
     """The quaternion of the rotation vector ``v`` (:func:`~quadlib.geometry.quaternion.quat_from_rotvec`)."""
-    x, y, z = v.tolist()
-    angle = math.sqrt(x * x + y * y + z * z)
+    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
     half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
-    return np.array([math.cos(0.5 * angle), half_sinc * x, half_sinc * y, half_sinc * z])
+    return np.array([math.cos(0.5 * angle), half_sinc * v[0], half_sinc * v[1], half_sinc * v[2]])
 
 
-def rotvec(q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def rotvec(q):
     """The rotation vector of a unit ``q``, angle in [0, π] (:func:`~quadlib.geometry.quaternion.quat_to_rotvec`)."""
-    w, x, y, z = q.tolist()
+    w, x, y, z = q[0], q[1], q[2], q[3]
     if w < 0.0:
         w, x, y, z = -w, -x, -y, -z
     s = math.sqrt(x * x + y * y + z * z)
@@ -45,33 +49,47 @@ def rotvec(q: np.ndarray) -> np.ndarray:
     return np.array([scale * x, scale * y, scale * z])
 
 
-def conjugate(q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def conjugate(q):
     """``q*``, the inverse rotation of a unit ``q`` (:func:`~quadlib.geometry.quaternion.quat_conjugate`)."""
-    w, x, y, z = q.tolist()
-    return np.array([w, -x, -y, -z])
+    return np.array([q[0], -q[1], -q[2], -q[3]])
 
 
-def dcm(q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def matrix(rows, cols, values):
+    """A ``(rows, cols)`` array from a flat tuple of ``values``, row by row: numba builds one from
+    nested lists about five times slower than the arithmetic that fills a 3 × 3 rotation."""
+    out = np.empty((rows, cols))
+    for i in range(rows):
+        for j in range(cols):
+            out[i, j] = values[i * cols + j]
+    return out
+
+
+@njit(cache=True)
+def dcm(q):
     """``R(q)`` as the homogeneous quadratic in ``q`` (equal to
     :func:`~quadlib.geometry.quaternion.quat_to_dcm` for a unit ``q``)."""
-    w, x, y, z = q.tolist()
+    w, x, y, z = q[0], q[1], q[2], q[3]
     ww, xx, yy, zz = w * w, x * x, y * y, z * z
-    return np.array([[ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz]])
+    return matrix(3, 3, (ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y),
+                         2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x),
+                         2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz))
 
 
-def euler_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
+@njit(cache=True)
+def euler_dcm(roll, pitch, yaw):
     """``R_nb = R_z(ψ) R_y(θ) R_x(φ)`` of three Z-Y-X Euler angles [rad]
     (:func:`~quadlib.geometry.rotations.euler_to_dcm`)."""
     cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
     cy, sy = math.cos(yaw), math.sin(yaw)
-    return np.array([[cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy],
-                     [cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy],
-                     [-sp, cp * sr, cp * cr]])
+    return matrix(3, 3, (cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy,
+                         cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy,
+                         -sp, cp * sr, cp * cr))
 
 
-def from_euler(roll: float, pitch: float, yaw: float) -> np.ndarray:
+@njit(cache=True)
+def from_euler(roll, pitch, yaw):
     """``q_nb`` of three Z-Y-X Euler angles [rad] (:func:`~quadlib.geometry.quaternion.quat_from_euler`)."""
     cr, sr, cp, sp = math.cos(0.5 * roll), math.sin(0.5 * roll), math.cos(0.5 * pitch), math.sin(0.5 * pitch)
     cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
@@ -79,10 +97,11 @@ def from_euler(roll: float, pitch: float, yaw: float) -> np.ndarray:
                      cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
 
 
-def to_euler(q: np.ndarray) -> tuple[float, float, float]:
+@njit(cache=True)
+def to_euler(q):
     """Z-Y-X Euler angles ``(roll, pitch, yaw)`` [rad] of a unit ``q``, with the same choice at
     gimbal lock (roll = 0) as :func:`~quadlib.geometry.quaternion.quat_to_euler`."""
-    w, x, y, z = q.tolist()
+    w, x, y, z = q[0], q[1], q[2], q[3]
     sin_pitch = min(1.0, max(-1.0, 2.0 * (w * y - x * z)))
     if abs(sin_pitch) > 1.0 - 1e-12:
         side = math.copysign(1.0, sin_pitch)
@@ -91,45 +110,56 @@ def to_euler(q: np.ndarray) -> tuple[float, float, float]:
             math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z)))
 
 
-def from_dcm(R: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def from_dcm(R):
     """The unit quaternion (``w ≥ 0``) of a rotation matrix, Shepperd's method: divide by the largest
     of ``4w², 4x², 4y², 4z²`` (:func:`~quadlib.geometry.quaternion.quat_from_dcm`)."""
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
-    tr = r00 + r11 + r22
-    squares = (1.0 + tr, 1.0 + 2.0 * r00 - tr, 1.0 + 2.0 * r11 - tr, 1.0 + 2.0 * r22 - tr)
-    big = max(range(4), key=squares.__getitem__)
-    rows = ((squares[0], r21 - r12, r02 - r20, r10 - r01), (r21 - r12, squares[1], r01 + r10, r02 + r20),
-            (r02 - r20, r01 + r10, squares[2], r12 + r21), (r10 - r01, r02 + r20, r12 + r21, squares[3]))
-    q = np.array(rows[big]) / (2.0 * math.sqrt(squares[big]))
-    q = q / math.sqrt(float(q @ q))
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    squares = np.array([1.0 + tr, 1.0 + 2.0 * R[0, 0] - tr, 1.0 + 2.0 * R[1, 1] - tr, 1.0 + 2.0 * R[2, 2] - tr])
+    big = int(np.argmax(squares))  # the first of equal ones, as max() picks it
+    d21, d02, d10 = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]
+    s01, s02, s12 = R[0, 1] + R[1, 0], R[0, 2] + R[2, 0], R[1, 2] + R[2, 1]
+    if big == 0:
+        q = np.array([squares[0], d21, d02, d10])
+    elif big == 1:
+        q = np.array([d21, squares[1], s01, s02])
+    elif big == 2:
+        q = np.array([d02, s01, squares[2], s12])
+    else:
+        q = np.array([d10, s02, s12, squares[3]])
+    q = q / (2.0 * math.sqrt(squares[big]))
+    q = q / math.sqrt(q @ q)
     return q if q[0] >= 0.0 else -q
 
 
-def skew(v: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def skew(v):
     """``[v]×``, the matrix of the cross product: ``[v]× w = v × w``."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return matrix(3, 3, (0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0))
 
 
-def normalize(q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def normalize(q):
     """``q / |q|`` for a quaternion that is not zero."""
-    return q / math.sqrt(float(q @ q))
+    return q / math.sqrt(q @ q)
 
 
-def rate_matrix(q: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def rate_matrix(q):
     """``Ξ(q)``, ``(4, 3)``: ``q ⊗ [0, ω] = Ξ(q) ω``
     (:func:`~quadlib.attitude.bias_model.quaternion_rate_matrix`)."""
-    q0, q1, q2, q3 = q.tolist()
-    return np.array([[-q1, -q2, -q3], [q0, -q3, q2], [q3, q0, -q1], [-q2, q1, q0]])
+    return matrix(4, 3, (-q[1], -q[2], -q[3], q[0], -q[3], q[2], q[3], q[0], -q[1], -q[2], q[1], q[0]))
 
 
-def body_vector_jacobian(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def body_vector_jacobian(q, v):
     """``∂(R(q)ᵀ v)/∂q``, ``(3, 4)`` (:func:`~quadlib.geometry.quaternion.vector_jacobian`). With
     ``q = [w, r]``, ``R(q)ᵀ v = (w² − r·r) v + 2 (r·v) r − 2 w (r × v)``, so
     ``∂/∂w = 2 (w v − r × v)`` and ``∂/∂r = 2 ((r·v) I + r vᵀ − v rᵀ + w [v]×)``."""
-    w, x, y, z = q.tolist()
-    vx, vy, vz = v.tolist()
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    vx, vy, vz = v[0], v[1], v[2]
     rv = x * vx + y * vy + z * vz
-    return 2.0 * np.array([
-        [w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy],
-        [w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx],
-        [w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv]])
+    return 2.0 * matrix(3, 4, (
+        w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy,
+        w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx,
+        w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv))

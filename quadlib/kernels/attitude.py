@@ -17,19 +17,8 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import (
-    attitude_bias_jacobian,
-    body_vector_jacobian,
-    dcm,
-    matrix,
-    multiply,
-    product,
-    rate_matrix,
-    rotvec,
-    saturated,
-    skew,
-    wrap,
-)
+from quadlib.compiled_kernels import attitude_bias_jacobian, product, saturated, wrap
+from quadlib.geometry.kernels import body_vector_jacobian, dcm, matrix, multiply, rate_matrix, rotvec, skew
 
 __all__: list[str] = []  # bound by the model factories; see the module docstring
 

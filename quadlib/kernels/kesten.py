@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import exp_rotvec, multiply, rotvec
+from quadlib.geometry.kernels import exp_rotvec, multiply, rotvec
 from quadlib.kernels.attitude import turn_into
 
 __all__: list[str] = []  # bound by the factories of quadlib.attitude.kesten

@@ -34,13 +34,13 @@ from quadlib.compiled_kernels import (
     add_outer,
     called_from_python,
     diverged,
-    euler_dcm,
     kalman_update,
     positive_definite,
     product,
     upper_cholesky,
     wrap,
 )
+from quadlib.geometry.kernels import euler_dcm
 
 __all__: list[str] = []  # internal: estimate.py is the interface
 
