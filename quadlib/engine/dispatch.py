@@ -13,20 +13,21 @@ role's switch; ``tests/engine/test_dispatch.py`` checks that each number calls i
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from quadlib.kernels import attitude as att
-from quadlib.kernels import fixedwing, kesten
+from quadlib.kernels import fixedwing, kesten, quad3d
 
 __all__ = ["TABLES"]
 
 TABLES = {
-    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step),
-    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian),
-    "Q": (att.gyro_noise,),
+    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step, quad3d.quad3d_step),
+    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian, quad3d.quad3d_jacobian),
+    "Q": (att.gyro_noise, quad3d.quad3d_noise),
     "input_noise": (att.gyro_saturation,),
     "state_add": (att.attitude_bias_add, kesten.rotation_blocks_add),
-    "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference),
+    "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference, att.angle_difference),
     "add_jacobian": (att.attitude_bias_add_jacobian,),
     "normalize": (att.normalize_quaternion,),
     "normalize_jacobian": (att.normalize_quaternion_jacobian,),
@@ -36,6 +37,7 @@ TABLES = {
           fixedwing.unit_field_H),
     "residual": (att.wrapped_difference, kesten.nearest_orientation, kesten.same_sign_quaternion,
                  kesten.rotvec_turn, kesten.turn_between),
+    "mean": (att.circular_mean,),
 }
 """Role → the kernels of that role, numbered by position (a model's ``-1``: the role is unused)."""
 
@@ -50,7 +52,9 @@ def transition(kind, x, u, dt, p):
         return att.attitude_bias_step(x, u, dt, p)
     if kind == 1:
         return kesten.quaternion_step(x, u, dt, p)
-    return kesten.orientation_vector_step(x, u, dt, p)
+    if kind == 2:
+        return kesten.orientation_vector_step(x, u, dt, p)
+    return quad3d.quad3d_step(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -60,13 +64,17 @@ def jacobian(kind, x, u, dt, p):
         return att.attitude_error_jacobian(x, u, dt, p)
     if kind == 1:
         return att.attitude_step_jacobian(x, u, dt, p)
-    return att.identity_jacobian(x, u, dt, p)
+    if kind == 2:
+        return att.identity_jacobian(x, u, dt, p)
+    return quad3d.quad3d_jacobian(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
 def process_noise(kind, dt, p):
     """``Q(dt)``."""
-    return att.gyro_noise(dt, p)
+    if kind == 0:
+        return att.gyro_noise(dt, p)
+    return quad3d.quad3d_noise(dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -88,7 +96,9 @@ def residual_x(kind, x1, x0, p):
     """``x₁ ⊟ x₀``."""
     if kind == 0:
         return att.attitude_bias_difference(x1, x0, p)
-    return kesten.rotation_blocks_difference(x1, x0, p)
+    if kind == 1:
+        return kesten.rotation_blocks_difference(x1, x0, p)
+    return att.angle_difference(x1, x0, p)
 
 
 @njit(cache=True, inline="always")
@@ -157,9 +167,22 @@ def residual(kind, z, z_hat, p):
     return kesten.turn_between(z, z_hat, p)
 
 
+@njit(cache=True, inline="always")
+def mean(kind, Z, w, p):
+    """A UKF's weighted mean of the sigma points ``Z``; kind ``-1`` is the plain ``w Z``."""
+    if kind < 0:
+        out = np.zeros(Z.shape[1])
+        for r in range(Z.shape[0]):
+            for j in range(Z.shape[1]):
+                out[j] += w[r] * Z[r, j]
+        return out
+    return att.circular_mean(Z, w, p)
+
+
 SWITCHES = {"g": transition, "G": jacobian, "Q": process_noise, "input_noise": input_noise, "state_add": state_add,
             "residual_x": residual_x, "add_jacobian": add_jacobian, "normalize": normalize,
-            "normalize_jacobian": normalize_jacobian, "h": measure, "H": measurement_jacobian, "residual": residual}
+            "normalize_jacobian": normalize_jacobian, "h": measure, "H": measurement_jacobian, "residual": residual,
+            "mean": mean}
 """Role → its switch (for the test that each number calls its table entry)."""
 
 

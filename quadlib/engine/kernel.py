@@ -13,7 +13,8 @@ Every kernel takes its parameters last, as one float array: ``g(x, u, dt, p)``, 
 ``Q(dt, p)``, ``input_noise(u, dt, p) -> (added, M)``, ``state_add(x, d, p)``,
 ``residual_x(x1, x0, p)``, ``add_jacobian(x, p)``, ``normalize(x, p)``,
 ``normalize_jacobian(x, p)``; a sensor's ``h(x, c, p)``, ``H(x, c, p)``, ``residual(z, z_hat, p)``
-(``c`` the sample's context, empty for a sensor without one). The engine passes each kernel its
+(``c`` the sample's context, empty for a sensor without one) and ``mean(Z, weights, p)`` (a UKF's
+weighted mean of sigma points, which also serves as ModelUKF's ``x_mean_fn``). The engine passes each kernel its
 parameters padded with zeros to the longest of its model's, so a kernel reads its sizes from its
 parameters, never from their length.
 """
@@ -26,7 +27,7 @@ __all__ = ["MODEL_ROLES", "SENSOR_ROLES", "Kernel"]
 
 MODEL_ROLES = ("g", "G", "Q", "input_noise", "state_add", "residual_x", "add_jacobian", "normalize",
                "normalize_jacobian")
-SENSOR_ROLES = ("h", "H", "residual")
+SENSOR_ROLES = ("h", "H", "residual", "mean")
 _NO_CONTEXT = np.zeros(0)
 
 

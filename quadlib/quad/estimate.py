@@ -6,10 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.constants import G0
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
-from quadlib.quad.compiled import quad3d_ekf_pass, quad3d_ukf_pass
+from quadlib.quad.compiled import quad3d_ukf_pass
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
 from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, run_filter
 from quadlib.samples import Measurements, Samples, time_resolution
@@ -104,8 +103,9 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     filter_factory : callable
         :func:`quad3d_ekf` (default) or :func:`quad3d_ukf`.
     compiled : bool
-        Without a gate, run the same steps compiled (:mod:`~quadlib.quad.compiled`; equal to
-        ``run_filter``'s to 1e-10, tested); False, or a gate, runs the readable filter driven by
+        Run the same steps compiled (equal to the readable loop to 1e-10, tested): the EKF on the
+        compiled engine (:mod:`quadlib.engine`; ``run.engine`` says which ran), the UKF without a
+        gate as :mod:`~quadlib.quad.compiled`'s loop. False runs the readable filter driven by
         :func:`~quadlib.run_filter`.
 
     Returns
@@ -131,18 +131,18 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     gps_sensor, mag_sensor = tuning.sensors()
     filt = filter_factory(x0, float(t[1] - t[0]), tuning)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
-    if compiled and gate_probability is None and filter_factory in (quad3d_ekf, quad3d_ukf):
-        run = _compiled_run(filt, t, grid_resolution, u, measurements, tuning)
+    if compiled and gate_probability is None and filter_factory is quad3d_ukf:
+        run = _compiled_run(filt, t, grid_resolution, u, measurements)
         if run is not None:
             return run
-    return run_filter(filt, t, u, measurements, gate_probability=gate_probability)
+    return run_filter(filt, t, u, measurements, gate_probability=gate_probability,
+                      engine="auto" if compiled else "readable")
 
 
-def _compiled_run(filt: ModelEKF | ModelUKF, t: np.ndarray, grid_resolution: float, u, measurements: list,
-                  tuning: Quad3DTuning) -> FilterRun | None:
+def _compiled_run(filt: ModelUKF, t: np.ndarray, grid_resolution: float, u, measurements: list) -> FilterRun | None:
     """What ``run_filter(filt, t, u, measurements)`` returns, from
-    :func:`~quadlib.quad.compiled.quad3d_ekf_pass` or :func:`~quadlib.quad.compiled.quad3d_ukf_pass`;
-    None if the estimate became non-finite (the readable loop then names where)."""
+    :func:`~quadlib.quad.compiled.quad3d_ukf_pass`; None if the estimate became non-finite (the
+    readable loop then names where)."""
     n = t.size
     u, held = held_inputs(filt.model, u, n)
     planned = compiled_schedule(filt, t, grid_resolution, measurements)
@@ -150,15 +150,11 @@ def _compiled_run(filt: ModelEKF | ModelUKF, t: np.ndarray, grid_resolution: flo
         return None  # run_filter names the times
     schedule, events = planned
     gps, mag = measurements
-    sa = np.broadcast_to(np.asarray(tuning.accel_sigma_m_s2, dtype=float), (3,)).copy()
-    args = (t, u, *events, gps.z, mag.z, filt.state_view().copy(), filt.P,
-            filt.dt, sa, float(tuning.yaw_rate_sigma_rad_s), G0, gps.sensor.R, mag.sensor.R)
-    if isinstance(filt, ModelUKF):
-        points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
-        lam = points.alpha**2 * (points.n + points.kappa) - points.n
-        xs, Ps, *traces = quad3d_ukf_pass(*args, filt.Wm, filt.Wc, lam + points.n)
-    else:
-        xs, Ps, *traces = quad3d_ekf_pass(*args)
+    points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
+    lam = points.alpha**2 * (points.n + points.kappa) - points.n
+    xs, Ps, *traces = quad3d_ukf_pass(t, u, *events, gps.z, mag.z, filt.state_view().copy(), filt.P, filt.dt,
+                                      filt.model.g.params, filt.model.Q.params, gps.sensor.R, mag.sensor.R, filt.Wm,
+                                      filt.Wc, lam + points.n)
     if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
         return None
     out = {}

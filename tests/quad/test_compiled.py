@@ -6,10 +6,10 @@ crosses ±180°, and a start far from the truth."""
 import numpy as np
 import pytest
 
-from quadlib.quad.compiled import quad3d_ekf_pass
 from quadlib.quad.estimate import estimate_quad3d, quad3d_ekf, quad3d_ukf
 from quadlib.quad.flight import SensorNoise3D, square_course
 from quadlib.quad.scenario import simulate_run3d
+from quadlib.replay import FilterDivergedError
 from quadlib.samples import Samples
 
 RUN = simulate_run3d(square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(8), decimate=10,
@@ -56,23 +56,24 @@ def test_the_cases_reach_every_branch():
     assert per_step.max() >= 2  # more than one heading in a step
 
 
-def test_a_gate_takes_the_readable_loop(assert_same_run):
-    """The compiled loops have no gate: with one, the readable loop runs (and can reject)."""
+def test_a_gated_ekf_runs_on_the_engine(assert_same_run):
+    """With a gate the EKF still runs compiled (the engine gates and resets each GPS group), and
+    rejects what the readable loop rejects."""
     gps_z = RUN.gps.z.copy()
     gps_z[40:45, :3] += 30.0  # a jump
     gps = Samples(RUN.gps.t, gps_z)
     gated = estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999)
+    assert gated.engine == "compiled"
     assert gated.sensors["gps"].rejected.any()
     assert_same_run(gated, estimate_quad3d(RUN.t, RUN.u, gps, RUN.mag, RUN.truth[0], gate_probability=0.999,
                                             compiled=False))
 
 
-def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite():
+def test_a_non_finite_estimate_is_named_where_it_happens():
+    """The engine hands a run that became non-finite to the readable loop, which names the step."""
     u = RUN.u.copy()
     u[100, 0] = 1e308  # the velocity overflows in the step to 101
-    steps = np.searchsorted(RUN.t, RUN.mag.t)
-    xs, Ps, *_ = quad3d_ekf_pass(RUN.t, u, steps, np.ones(steps.size, np.int64), np.arange(steps.size),
-                                 RUN.gps.z, RUN.mag.z, RUN.truth[0], np.eye(7), 0.02, np.ones(3), 0.1, 9.8,
-                                 np.eye(6), np.eye(1))
-    assert np.isfinite(xs[:101]).all() and np.isfinite(Ps[:101]).all()
-    assert np.isnan(xs[102:]).all() and np.isnan(Ps[102:]).all()
+    with np.errstate(over="ignore", invalid="ignore"), \
+            pytest.raises(FilterDivergedError, match="non-finite at t\\[101\\]") as err:
+        estimate_quad3d(RUN.t, u, RUN.gps, RUN.mag, RUN.truth[0])
+    assert err.value.run.engine == "readable" and "non-finite" in err.value.run.engine_note
