@@ -2,8 +2,7 @@
 :mod:`quadlib.geometry.kernels`), the Kalman update and the Cholesky factor of the sigma points.
 
 Every function here is plain arithmetic on small arrays, compiled by numba; the compiled filters
-(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`, :mod:`quadlib.fixedwing.compiled`,
-:mod:`quadlib.quad.compiled`)
+(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`, :mod:`quadlib.nav.compiled`)
 are proved equal to their readable twins by their tests, and with them these kernels.
 """
 

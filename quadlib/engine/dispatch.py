@@ -2,7 +2,7 @@
 
 numba caches a compiled loop only if everything it calls is a global function known when it is
 compiled: a function passed as an argument makes the loop uncacheable (about 5 s of compile in
-every process). So the engine's loop (:mod:`quadlib.engine.ekf`) calls one switch per role —
+every process). So the engine's loop (:mod:`quadlib.engine.loop`) calls one switch per role —
 :func:`transition` for a model's ``g``, :func:`measure` for a sensor's ``h`` … — with the kernel's
 number in :data:`TABLES`, and each switch calls that kernel. The loop and the switches are
 compiled once, cached, and serve every model whose functions are listed here.
