@@ -31,12 +31,17 @@ SENSOR_ROLES = ("h", "H", "residual", "mean")
 _NO_CONTEXT = np.zeros(0)
 
 
+_F64 = np.dtype(np.float64)
+
+
 def _arg(a):
     """One argument as numba's one compiled version expects it: a C-contiguous, writable float64
     array (a view, a read-only log or a list would each cost another compile), or a float."""
-    if isinstance(a, np.ndarray):
-        if a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable:
+    if type(a) is np.ndarray:  # the readable filters call a kernel per sigma point: the common case first
+        flags = a.flags
+        if a.dtype == _F64 and flags.c_contiguous and flags.writeable:
             return a
+    if isinstance(a, np.ndarray):
         return np.require(a, dtype=np.float64, requirements="CW")
     if isinstance(a, (list, tuple)):
         return np.array(a, dtype=np.float64)
@@ -59,7 +64,7 @@ class Kernel:
         called ``h(x, c)``), False for ``h(x)``.
     """
 
-    __slots__ = ("role", "function", "params", "context")
+    __slots__ = ("role", "function", "params", "context", "_bare")
 
     def __init__(self, role: str, function, params=(), context: bool = False):
         if role not in MODEL_ROLES + SENSOR_ROLES:
@@ -68,14 +73,15 @@ class Kernel:
             raise TypeError(f"function: expected a numba function, got {function!r}")
         self.role, self.function, self.context = role, function, bool(context)
         self.params = np.array(params, dtype=np.float64).reshape(-1)
+        self._bare = role in ("h", "H") and not self.context  # called h(x): the empty context added
 
     def __call__(self, *args):
-        if self.role in ("h", "H") and not self.context:
+        if self._bare:
             if len(args) != 1:
                 raise TypeError(f"{self.function.__name__}: expected h(x) (the sensor has no context), "
                                 f"got {len(args)} arguments")
             args = (args[0], _NO_CONTEXT)
-        out = self.function(*[_arg(a) for a in args], self.params)
+        out = self.function(*map(_arg, args), self.params)
         if self.role == "input_noise":  # (added, M): None when the input adds nothing, as the field documents
             return out[1] if out[0] else None
         return out

@@ -39,8 +39,9 @@ def quad3d_jacobian(x, u, dt, p):
     R = euler_dcm(u[4], u[5], x[YAW])
     for i in range(3):
         J[i, 3 + i] = dt
-    J[3, YAW] = -(R[1, 0] * u[0] + R[1, 1] * u[1] + R[1, 2] * u[2]) * dt
-    J[4, YAW] = (R[0, 0] * u[0] + R[0, 1] * u[1] + R[0, 2] * u[2]) * dt
+    f0, f1, f2 = u[0] * dt, u[1] * dt, u[2] * dt
+    J[3, YAW] = (-R[1, 0]) * f0 + (-R[1, 1]) * f1 + (-R[1, 2]) * f2
+    J[4, YAW] = R[0, 0] * f0 + R[0, 1] * f1 + R[0, 2] * f2
     return J
 
 
