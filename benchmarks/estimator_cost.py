@@ -1,7 +1,6 @@
 """Cost per filter step of every estimator the project has, each driven by ``run_filter`` (Kesten's
-filters, the orientation MEKF, the fixed-wing EKFs and the INS on the compiled engine,
-:mod:`quadlib.engine`; the fixed-wing error-state UKF and the 3D quadrotor EKF and UKF also
-compiled: :mod:`quadlib.fixedwing.compiled`, :mod:`quadlib.quad.compiled`).
+filters, the orientation MEKF, the fixed-wing EKFs and error-state UKF, the 3D quadrotor EKF and
+UKF and the INS, all on the compiled engine, :mod:`quadlib.engine`).
 
 Usage: ``python benchmarks/estimator_cost.py`` (about a minute). Each row is the best of three runs
 of one log (µs per step, one predict plus that step's updates) and its ratio to the cheapest row,

@@ -3,9 +3,8 @@
 Cholesky factor of the sigma points, the attitude-and-bias error Jacobian.
 
 Every function here is plain arithmetic on small arrays, compiled by numba; the compiled filters
-(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`, :mod:`quadlib.fixedwing.compiled`,
-:mod:`quadlib.quad.compiled`) are proved equal to their readable twins by their tests, and with them
-these kernels.
+(:mod:`quadlib.engine`, the models' kernels of :mod:`quadlib.kernels`) are proved equal to their
+readable twins by their tests, and with them these kernels.
 """
 
 from __future__ import annotations

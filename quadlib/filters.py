@@ -192,7 +192,7 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
         self._log_likelihood = self._likelihood = self._mahalanobis = None
 
 
-def _upper_cholesky(P: np.ndarray) -> np.ndarray:
+def sigma_point_sqrt(P: np.ndarray) -> np.ndarray:
     """``U`` with ``Uᵀ U = P``: what ``scipy.linalg.cholesky(P)``, filterpy's default for the sigma
     points, returns (the same LAPACK routine, so the same bits), without its argument handling,
     which cost 8× the factorisation of a small ``P``."""
@@ -268,7 +268,7 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         if points is None:
             points = MerweScaledSigmaPoints(
                 model.dim_P, alpha=as_positive("alpha", alpha), beta=float(beta), kappa=float(kappa),
-                sqrt_method=_upper_cholesky, subtract=residual_x,
+                sqrt_method=sigma_point_sqrt, subtract=residual_x,
             )
         UnscentedKalmanFilter.__init__(
             self, dim_x=model.dim_P, dim_z=1, dt=self.dt, hx=_no_default_hx,

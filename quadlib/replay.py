@@ -180,7 +180,8 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None, 
         reset of each sensor's ``reset_after_s``.
     engine : {"auto", "compiled", "readable"}
         ``"auto"`` runs the same steps on the compiled engine (:mod:`quadlib.engine`) when it can —
-        a :class:`~quadlib.ModelEKF` whose model and sensors hold only compiled kernels — and this
+        a :class:`~quadlib.ModelEKF` or :class:`~quadlib.ModelUKF` whose model and sensors hold
+        only compiled kernels — and this
         loop otherwise; ``run.engine`` says which ran, ``run.engine_note`` why not the engine.
         ``"compiled"`` raises ``ValueError`` when the engine cannot run the filter; ``"readable"``
         always runs this loop.

@@ -27,12 +27,6 @@ def time_resolution(t) -> float:
     return max(1e-9, 4 * float(np.finfo(arr.dtype).eps) * float(np.max(np.abs(arr))))
 
 
-def repeats_a_time(t) -> bool:
-    """Two consecutive times of ``t`` are equal within their precision (:func:`time_resolution`):
-    ``run_filter`` drops such a sample as a repeat, which the compiled filter loops do not do."""
-    return bool((np.diff(t) <= time_resolution(t)).any())
-
-
 def _window(t: np.ndarray, start_s: float, end_s: float, tol: float) -> np.ndarray:
     """(K,) bool: ``start_s <= t <= end_s`` to within ``tol`` [s]."""
     start_s, end_s = as_finite_number("start_s", start_s), as_finite_number("end_s", end_s)

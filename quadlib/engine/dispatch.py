@@ -2,7 +2,7 @@
 
 numba caches a compiled loop only if everything it calls is a global function known when it is
 compiled: a function passed as an argument makes the loop uncacheable (about 5 s of compile in
-every process). So the engine's loop (:mod:`quadlib.engine.ekf`) calls one switch per role —
+every process). So the engine's loop (:mod:`quadlib.engine.loop`) calls one switch per role —
 :func:`transition` for a model's ``g``, :func:`measure` for a sensor's ``h`` … — with the kernel's
 number in :data:`TABLES`, and each switch calls that kernel. The loop and the switches are
 compiled once, cached, and serve every model whose functions are listed here.
@@ -13,20 +13,23 @@ role's switch; ``tests/engine/test_dispatch.py`` checks that each number calls i
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from quadlib.kernels import attitude as att
-from quadlib.kernels import fixedwing, ins, kesten
+from quadlib.kernels import fixedwing, ins, kesten, quad3d
 
 __all__ = ["TABLES"]
 
 TABLES = {
-    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step, ins.strapdown_step),
-    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian, ins.strapdown_error_jacobian),
-    "Q": (att.gyro_noise, ins.strapdown_noise),
+    "g": (att.attitude_bias_step, kesten.quaternion_step, kesten.orientation_vector_step, ins.strapdown_step,
+          quad3d.quad3d_step),
+    "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian, ins.strapdown_error_jacobian,
+          quad3d.quad3d_jacobian),
+    "Q": (att.gyro_noise, ins.strapdown_noise, quad3d.quad3d_noise),
     "input_noise": (att.gyro_saturation,),
     "state_add": (att.attitude_bias_add, kesten.rotation_blocks_add),
-    "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference),
+    "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference, att.angle_difference),
     "add_jacobian": (att.attitude_bias_add_jacobian,),
     "normalize": (att.normalize_quaternion,),
     "normalize_jacobian": (att.normalize_quaternion_jacobian,),
@@ -36,6 +39,7 @@ TABLES = {
           fixedwing.unit_field_H, att.linear_map_H),
     "residual": (att.wrapped_difference, kesten.nearest_orientation, kesten.same_sign_quaternion,
                  kesten.rotvec_turn, kesten.turn_between),
+    "mean": (att.circular_mean,),
 }
 """Role → the kernels of that role, numbered by position (a model's ``-1``: the role is unused)."""
 
@@ -52,7 +56,9 @@ def transition(kind, x, u, dt, p):
         return kesten.quaternion_step(x, u, dt, p)
     if kind == 2:
         return kesten.orientation_vector_step(x, u, dt, p)
-    return ins.strapdown_step(x, u, dt, p)
+    if kind == 3:
+        return ins.strapdown_step(x, u, dt, p)
+    return quad3d.quad3d_step(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -64,7 +70,9 @@ def jacobian(kind, x, u, dt, p):
         return att.attitude_step_jacobian(x, u, dt, p)
     if kind == 2:
         return att.identity_jacobian(x, u, dt, p)
-    return ins.strapdown_error_jacobian(x, u, dt, p)
+    if kind == 3:
+        return ins.strapdown_error_jacobian(x, u, dt, p)
+    return quad3d.quad3d_jacobian(x, u, dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -72,7 +80,9 @@ def process_noise(kind, dt, p):
     """``Q(dt)``."""
     if kind == 0:
         return att.gyro_noise(dt, p)
-    return ins.strapdown_noise(dt, p)
+    if kind == 1:
+        return ins.strapdown_noise(dt, p)
+    return quad3d.quad3d_noise(dt, p)
 
 
 @njit(cache=True, inline="always")
@@ -94,7 +104,9 @@ def residual_x(kind, x1, x0, p):
     """``x₁ ⊟ x₀``."""
     if kind == 0:
         return att.attitude_bias_difference(x1, x0, p)
-    return kesten.rotation_blocks_difference(x1, x0, p)
+    if kind == 1:
+        return kesten.rotation_blocks_difference(x1, x0, p)
+    return att.angle_difference(x1, x0, p)
 
 
 @njit(cache=True, inline="always")
@@ -167,9 +179,22 @@ def residual(kind, z, z_hat, p):
     return kesten.turn_between(z, z_hat, p)
 
 
+@njit(cache=True, inline="always")
+def mean(kind, Z, w, p):
+    """A UKF's weighted mean of the sigma points ``Z``; kind ``-1`` is the plain ``w Z``."""
+    if kind < 0:
+        out = np.zeros(Z.shape[1])
+        for r in range(Z.shape[0]):
+            for j in range(Z.shape[1]):
+                out[j] += w[r] * Z[r, j]
+        return out
+    return att.circular_mean(Z, w, p)
+
+
 SWITCHES = {"g": transition, "G": jacobian, "Q": process_noise, "input_noise": input_noise, "state_add": state_add,
             "residual_x": residual_x, "add_jacobian": add_jacobian, "normalize": normalize,
-            "normalize_jacobian": normalize_jacobian, "h": measure, "H": measurement_jacobian, "residual": residual}
+            "normalize_jacobian": normalize_jacobian, "h": measure, "H": measurement_jacobian, "residual": residual,
+            "mean": mean}
 """Role → its switch (for the test that each number calls its table entry)."""
 
 

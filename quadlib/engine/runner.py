@@ -12,17 +12,21 @@ the run. :func:`forward` and :func:`backward` call the loops of :mod:`quadlib.en
 from __future__ import annotations
 
 import numpy as np
+from filterpy.kalman import MerweScaledSigmaPoints
 
 from quadlib.engine.dispatch import kind_of
-from quadlib.engine.ekf import ModelArrays, Samples, SensorArrays, ekf_pass, rts_pass
+from quadlib.engine.ekf import ModelArrays, Samples, SensorArrays, SigmaArrays, rts_pass
 from quadlib.engine.kernel import MODEL_ROLES, Kernel
-from quadlib.filters import ModelEKF
+from quadlib.engine.loop import filter_pass
+from quadlib.filters import ModelEKF, ModelUKF, sigma_point_sqrt
 from quadlib.model import Model
 from quadlib.model_filter import group_gates
 
 __all__ = ["backward", "forward", "model_arrays", "plan"]
 
 _REQUIRED = ("g", "G", "Q")
+_UNUSED_BY_UKF = ("G", "add_jacobian")
+_NO_SIGMA = SigmaArrays(np.zeros(0), np.zeros(0), 0.0, np.full(2, -1, np.int64), np.zeros((2, 1)))
 
 
 def _kernel(owner: str, role: str, f) -> tuple[int, np.ndarray] | str:
@@ -43,14 +47,14 @@ def _padded(rows: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
-def model_arrays(model: Model) -> ModelArrays | str:
-    """The engine's record of ``model``, or why it has none."""
+def model_arrays(model: Model, unscented: bool = False) -> ModelArrays | str:
+    """The engine's record of ``model`` (for a UKF when ``unscented``: without ``G``), or why it has none."""
     if not isinstance(model, Model):
         return f"the model is a {type(model).__name__}"
     kinds, params = np.full(len(MODEL_ROLES), -1, np.int64), []
     for r, role in enumerate(MODEL_ROLES):
         f = getattr(model, role)
-        if f is None and role not in _REQUIRED:
+        if (f is None and role not in _REQUIRED) or (unscented and role in _UNUSED_BY_UKF):
             params.append(np.zeros(0))
             continue
         found = _kernel(f"model {model.name!r}", role, f)
@@ -61,20 +65,51 @@ def model_arrays(model: Model) -> ModelArrays | str:
     return ModelArrays(kinds, _padded(params, (len(MODEL_ROLES),)), model.is_error_state)
 
 
-def plan(filt, measurements: list, gate_probability: float | None) -> tuple[ModelArrays, SensorArrays] | str:
-    """The engine's records of ``filt`` (advanced from its current state) and the sensors of
-    ``measurements``, gated at ``gate_probability``; or why it must run on the readable loop."""
-    if type(filt) is not ModelEKF:
-        return f"the filter is a {type(filt).__name__}; the engine runs ModelEKF"
-    model = model_arrays(filt.model)
+def _sigma_arrays(filt: ModelUKF) -> SigmaArrays | str:
+    """The engine's record of ``filt``'s sigma points, or why it has none."""
+    points = filt.points_fn
+    if type(points) is not MerweScaledSigmaPoints or points.sqrt is not sigma_point_sqrt:
+        return f"the UKF's sigma points are {type(points).__name__} of its own; the engine draws ModelUKF's default"
+    if filt.state_add is not np.add:
+        return "the UKF's state_add is its own; the engine adds a correction"
+    if points.subtract is not filt.residual_x:
+        return "the UKF's sigma points subtract with another function than its residual_x"
+    kinds, params = np.full(2, -1, np.int64), []
+    for r, (role, f) in enumerate((("residual_x", filt.residual_x), ("mean", filt.x_mean))):
+        if f is np.subtract or f is None:
+            params.append(np.zeros(0))
+            continue
+        found = _kernel("the UKF", role, f)
+        if isinstance(found, str):
+            return found
+        kinds[r] = found[0]
+        params.append(found[1])
+    lam = points.alpha**2 * (points.n + points.kappa) - points.n
+    return SigmaArrays(np.array(filt.Wm, np.float64), np.array(filt.Wc, np.float64), float(lam + points.n), kinds,
+                       _padded(params, (2,)))
+
+
+def plan(filt, measurements: list, gate_probability: float | None) -> tuple[ModelArrays, SensorArrays,
+                                                                              SigmaArrays] | str:
+    """The engine's records of ``filt`` (advanced from its current state), the sensors of
+    ``measurements``, gated at ``gate_probability``, and a UKF's sigma points; or why it must run on
+    the readable loop."""
+    if type(filt) not in (ModelEKF, ModelUKF):
+        return f"the filter is a {type(filt).__name__}; the engine runs ModelEKF and ModelUKF"
+    unscented = type(filt) is ModelUKF
+    sigma = _sigma_arrays(filt) if unscented else _NO_SIGMA
+    if isinstance(sigma, str):
+        return sigma
+    model = model_arrays(filt.model, unscented)
     if isinstance(model, str):
         return model
     sensors = [m.sensor for m in measurements]
-    kinds, params = np.full((len(sensors), 3), -1, np.int64), []
+    kinds, params = np.full((len(sensors), 4), -1, np.int64), []
     for i, s in enumerate(sensors):
-        for r, role in enumerate(("h", "H", "residual")):
+        for r, role in enumerate(("h", "H", "residual", "mean")):
             f = getattr(s, role)
-            if role == "residual" and f is np.subtract:
+            if (role == "residual" and f is np.subtract) or (role == "mean" and (f is None or not unscented)) or (
+                    role == "H" and unscented):
                 params.append(np.zeros(0))
                 continue
             found = _kernel(f"sensor {s.name!r}", role, f)
@@ -93,10 +128,10 @@ def plan(filt, measurements: list, gate_probability: float | None) -> tuple[Mode
             gates[i, :len(s.groups)] = group_gates(s, gate_probability)
         corrected[i, list(s.uncorrected)] = False
     return model, SensorArrays(
-        kinds=kinds, params=_padded(params, (n, 3)), dim_z=np.array([s.dim_z for s in sensors], np.int64),
+        kinds=kinds, params=_padded(params, (n, 4)), dim_z=np.array([s.dim_z for s in sensors], np.int64),
         dim_c=np.array([s.dim_c for s in sensors], np.int64), R=R, group=group,
         n_groups=np.array([len(s.groups) for s in sensors], np.int64), gates=gates,
-        reset_after_s=np.array([s.reset_after_s or 0.0 for s in sensors]), corrected=corrected)
+        reset_after_s=np.array([s.reset_after_s or 0.0 for s in sensors]), corrected=corrected), sigma
 
 
 def _samples(measurements: list, per_sensor: list, k: int) -> Samples:
@@ -115,21 +150,22 @@ def _samples(measurements: list, per_sensor: list, k: int) -> Samples:
     return Samples(t, z, c, use, step, np.array([a.size for a in applied], np.int64))
 
 
-def forward(filt: ModelEKF, records: tuple[ModelArrays, SensorArrays], t: np.ndarray, u: np.ndarray,
+def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays, SigmaArrays], t: np.ndarray,
+            u: np.ndarray,
             measurements: list, per_sensor: list) -> tuple | None:
     """The forward pass from ``filt``'s state over times ``t`` with held inputs ``u``, each sensor's
     samples scheduled by :func:`~quadlib.replay.sample_steps` (``per_sensor``). Returns ``x``, ``P``
     and each sensor's trace (innovation, ``S``, NIS, used, rejected, reset), and advances ``filt``
     to the end; None if the pass raised or became non-finite (``filt`` unchanged: the readable loop
     then runs and says where)."""
-    model, sensors = records
+    model, sensors, sigma = records
     q_dt, Q = filt.reused_noise
     try:
         with np.errstate(all="ignore"):
-            xs, Ps, q_dt, Q, *traces = ekf_pass(
+            xs, Ps, q_dt, Q, *traces = filter_pass(
                 np.ascontiguousarray(t, np.float64), np.require(u, np.float64, "CW"),
                 np.array(filt.state_view(), np.float64), np.array(filt.P, np.float64), float(q_dt),
-                np.array(Q, np.float64), model, sensors, _samples(measurements, per_sensor, sensors.R.shape[1]))
+                np.array(Q, np.float64), model, sensors, _samples(measurements, per_sensor, sensors.R.shape[1]), sigma)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         return None
     if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):

@@ -21,9 +21,7 @@ import numpy as np
 
 from quadlib.attitude.bias_model import as_attitude_state, attitude_bias_model
 from quadlib.attitude.complementary import euler_rate_complementary
-from quadlib.constants import G0, earth_field_ned
 from quadlib.filters import ModelEKF, ModelUKF
-from quadlib.fixedwing.compiled import error_state_ukf_pass
 from quadlib.fixedwing.model import (
     FixedWingNoise,
     fixedwing_accel_sensor,
@@ -35,9 +33,8 @@ from quadlib.geometry.rotations import mag_heading
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog
 from quadlib.model import Sensor
-from quadlib.model_filter import gate_threshold
-from quadlib.replay import FilterRun, SensorTrace, held_inputs, run_filter
-from quadlib.samples import Measurements, repeats_a_time
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements
 from quadlib.validation import as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
@@ -185,11 +182,9 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
         Cut-off of Salmony's second-order prefilter; none by default.
     tuning : FixedWingTuning
     compiled : bool
-        Run the same steps compiled (equal to the readable loop to 1e-10, tested): the EKFs on the
-        compiled engine (:mod:`quadlib.engine`; ``run.engine`` says which ran), the error-state UKF
-        as :mod:`~quadlib.fixedwing.compiled`'s loop, except on a log whose timestamps repeat within
-        their precision. False runs the readable filter, :class:`~quadlib.ModelEKF` or
-        :class:`~quadlib.ModelUKF` driven by :func:`~quadlib.run_filter`.
+        Run the same steps on the compiled engine (:mod:`quadlib.engine`; equal to the readable
+        loop to 1e-10, tested; ``run.engine`` says which ran). False runs the readable filter,
+        :class:`~quadlib.ModelEKF` or :class:`~quadlib.ModelUKF` driven by :func:`~quadlib.run_filter`.
 
     Returns
     -------
@@ -210,37 +205,8 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
     measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, tuning.unmodelled_m_s2, prefilter_hz)
-    if compiled and filter_factory is error_state_ukf and not repeats_a_time(log.t):
-        run = _compiled_run(filt, log, measurements, noise, incl, tuning.gate_probability)
-        if run is not None:
-            return run
     return run_filter(filt, log.t, log.gyro, measurements, gate_probability=tuning.gate_probability,
                       engine="auto" if compiled else "readable")
-
-
-def _compiled_run(filt: ModelUKF, log: ImuLog, measurements: list[Measurements], noise: FixedWingNoise,
-                  inclination_rad: float, gate_probability: float | None) -> FilterRun | None:
-    """What ``run_filter(filt, log.t, log.gyro, measurements, gate_probability)`` returns, from
-    :func:`~quadlib.fixedwing.compiled.error_state_ukf_pass`; None if the estimate became
-    non-finite (the readable loop then names where)."""
-    n = len(log)
-    gyro, held = held_inputs(filt.model, log.gyro, n)
-    accel, no_airspeed, mag = measurements
-    gyro_sigma, bias_walk, gyro_range = _process_noise(noise)
-    gate = 0.0 if gate_probability is None else gate_threshold(3, gate_probability)
-    points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
-    lam = points.alpha**2 * (points.n + points.kappa) - points.n
-    xs, Ps, innovations, Ss, nis, used, rejected = error_state_ukf_pass(
-        log.t, gyro, accel.z, accel.context, no_airspeed.z, no_airspeed.context, mag.z, filt.state_view(), filt.P,
-        filt.dt, gyro_sigma, bias_walk, gyro_range or 0.0, np.stack([m.sensor.R for m in measurements]),
-        earth_field_ned(1.0, inclination_rad, noise.declination_rad), G0, gate, filt.Wm, filt.Wc, lam + points.n)
-    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
-    none = np.zeros(n, bool)
-    sensors = {m.sensor.name: SensorTrace(t=m.t, innovation=innovations[i], S=Ss[i], nis=nis[i], used=used[i],
-                                          rejected=rejected[i], reset=none, missing=m.missing, duplicate=none)
-               for i, m in enumerate(measurements)}
-    return FilterRun(t=log.t, x=xs, P=Ps, sensors=sensors, held_input=held, engine="compiled")
 
 
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:

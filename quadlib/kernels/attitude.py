@@ -244,3 +244,27 @@ def linear_map_H(x, c, p):
 def wrapped_difference(z, z_hat, p):
     """``z − ẑ`` wrapped to (−π, π] (an angle's residual)."""
     return wrap(z - z_hat)
+
+
+@njit(cache=True)
+def angle_difference(x1, x0, p):
+    """``x₁ − x₀`` with component ``p[0]`` (an angle) wrapped to (−π, π]: an additive UKF's ``⊟``."""
+    d = x1 - x0
+    i = int(p[0])
+    d[i] = wrap(d[i])
+    return d
+
+
+@njit(cache=True)
+def circular_mean(Z, w, p):
+    """The weighted mean of the rows of ``Z`` with column ``p[0]`` (an angle) averaged on the circle."""
+    i = int(p[0])
+    mean = np.zeros(Z.shape[1])
+    s, c = 0.0, 0.0
+    for r in range(Z.shape[0]):
+        for j in range(Z.shape[1]):
+            mean[j] += w[r] * Z[r, j]
+        s += w[r] * math.sin(Z[r, i])
+        c += w[r] * math.cos(Z[r, i])
+    mean[i] = math.atan2(s, c)
+    return mean

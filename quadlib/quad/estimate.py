@@ -6,13 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.constants import G0
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.model import Model, Sensor
-from quadlib.quad.compiled import quad3d_ekf_pass, quad3d_ukf_pass
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
-from quadlib.replay import FilterRun, SensorTrace, compiled_schedule, held_inputs, run_filter
-from quadlib.samples import Measurements, Samples, time_resolution
+from quadlib.replay import FilterRun, run_filter
+from quadlib.samples import Measurements, Samples
 from quadlib.validation import as_instance, as_times, as_vector, check_fields
 
 __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
@@ -104,9 +102,9 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     filter_factory : callable
         :func:`quad3d_ekf` (default) or :func:`quad3d_ukf`.
     compiled : bool
-        Without a gate, run the same steps compiled (:mod:`~quadlib.quad.compiled`; equal to
-        ``run_filter``'s to 1e-10, tested); False, or a gate, runs the readable filter driven by
-        :func:`~quadlib.run_filter`.
+        Run the same steps on the compiled engine (:mod:`quadlib.engine`; equal to the readable
+        loop to 1e-10, tested; ``run.engine`` says which ran). False runs the readable filter
+        driven by :func:`~quadlib.run_filter`.
 
     Returns
     -------
@@ -121,7 +119,6 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
             raise ValueError("gps, mag: expected at least one sample of each to start from, got none")
         x0 = np.concatenate([gps.z[0], mag.z[0]])
     x0 = as_vector("x0", x0, 7)
-    grid_resolution = time_resolution(t)
     t = as_times("t", t)
     tuning = as_instance("tuning", tuning, Quad3DTuning)
     if not callable(filter_factory):
@@ -131,42 +128,6 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     gps_sensor, mag_sensor = tuning.sensors()
     filt = filter_factory(x0, float(t[1] - t[0]), tuning)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
-    if compiled and gate_probability is None and filter_factory in (quad3d_ekf, quad3d_ukf):
-        run = _compiled_run(filt, t, grid_resolution, u, measurements, tuning)
-        if run is not None:
-            return run
-    return run_filter(filt, t, u, measurements, gate_probability=gate_probability)
+    return run_filter(filt, t, u, measurements, gate_probability=gate_probability,
+                      engine="auto" if compiled else "readable")
 
-
-def _compiled_run(filt: ModelEKF | ModelUKF, t: np.ndarray, grid_resolution: float, u, measurements: list,
-                  tuning: Quad3DTuning) -> FilterRun | None:
-    """What ``run_filter(filt, t, u, measurements)`` returns, from
-    :func:`~quadlib.quad.compiled.quad3d_ekf_pass` or :func:`~quadlib.quad.compiled.quad3d_ukf_pass`;
-    None if the estimate became non-finite (the readable loop then names where)."""
-    n = t.size
-    u, held = held_inputs(filt.model, u, n)
-    planned = compiled_schedule(filt, t, grid_resolution, measurements)
-    if planned is None:
-        return None  # run_filter names the times
-    schedule, events = planned
-    gps, mag = measurements
-    sa = np.broadcast_to(np.asarray(tuning.accel_sigma_m_s2, dtype=float), (3,)).copy()
-    args = (t, u, *events, gps.z, mag.z, filt.state_view().copy(), filt.P,
-            filt.dt, sa, float(tuning.yaw_rate_sigma_rad_s), G0, gps.sensor.R, mag.sensor.R)
-    if isinstance(filt, ModelUKF):
-        points = filt.points_fn  # filterpy's MerweScaledSigmaPoints, which factors (λ + n) P
-        lam = points.alpha**2 * (points.n + points.kappa) - points.n
-        xs, Ps, *traces = quad3d_ukf_pass(*args, filt.Wm, filt.Wc, lam + points.n)
-    else:
-        xs, Ps, *traces = quad3d_ekf_pass(*args)
-    if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
-    out = {}
-    for i, m in enumerate(measurements):
-        innovation, S, nis = traces[3 * i:3 * i + 3]
-        _, miss, dup = schedule[i]
-        applied = ~miss & ~dup
-        none = np.zeros(m.t.size, bool)
-        out[m.sensor.name] = SensorTrace(t=m.t, innovation=innovation, S=S, nis=nis, used=applied, rejected=none,
-                                         reset=none, missing=miss, duplicate=dup)
-    return FilterRun(t=t, x=xs, P=Ps, sensors=out, held_input=held)

@@ -20,12 +20,12 @@ every step, and the magnetometer's innovation is wrapped too.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from quadlib.constants import G0
-from quadlib.geometry import kernels
+from quadlib.engine import Kernel
+from quadlib.kernels import attitude as att
+from quadlib.kernels import quad3d as k
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_finite_array, as_positive, as_vector
 
@@ -36,7 +36,8 @@ YAW = 6
 
 
 def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "ned") -> Model:
-    """Tellex §7.2 transition (eq. 49) and Jacobian (eqs. 50–52), with white process noise.
+    """Tellex §7.2 transition (eq. 49) and Jacobian (eqs. 50–52), with white process noise: the
+    kernels of :mod:`quadlib.kernels.quad3d`, which the readable filters and the compiled engine call.
 
     Parameters
     ----------
@@ -57,33 +58,12 @@ def quad3d_model(accel_sigma_m_s2, yaw_rate_sigma_rad_s: float, gravity: str = "
     sr = as_positive("yaw_rate_sigma_rad_s", yaw_rate_sigma_rad_s)
     if gravity not in ("ned", "seed"):
         raise ValueError(f"gravity: expected 'ned' or 'seed', got {gravity!r}")
-    g_n = np.array([0.0, 0.0, G0 if gravity == "ned" else -G0])
-
-    def g(x, u, dt):  # a filter's inner step: unchecked (the filter checked its log)
-        R = kernels.euler_dcm(u[4], u[5], x[YAW])
-        v_new = x[3:6] + (R @ u[:3] + g_n) * dt
-        yaw = x[YAW] + u[3] * dt
-        return np.concatenate([x[:3] + x[3:6] * dt, v_new, [math.pi - (math.pi - yaw) % (2.0 * math.pi)]])
-
-    def G(x, u, dt):
-        J = np.eye(7)
-        J[0:3, 3:6] = dt * np.eye(3)
-        R = kernels.euler_dcm(u[4], u[5], x[YAW])  # ∂R/∂ψ = [e_z]× R: rows (−R₁, R₀, 0), as dcm_dyaw
-        J[3:6, YAW] = np.array([-R[1], R[0], np.zeros(3)]) @ (u[:3] * dt)  # eq. (51)
-        return J
-
-    def Q(dt):
-        Qm = np.zeros((7, 7))
-        for i in range(3):
-            w = np.array([0.5 * dt**2, dt]) * sa[i]
-            Qm[np.ix_([i, i + 3], [i, i + 3])] = np.outer(w, w)
-        Qm[YAW, YAW] = (sr * dt) ** 2
-        return Qm
-
+    g_down = G0 if gravity == "ned" else -G0
     return Model(state_names=("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]", "yaw [rad]"),
                  input_names=("fx [m/s2]", "fy [m/s2]", "fz [m/s2]", "yaw rate [rad/s]", "roll [rad]",
                               "pitch [rad]"),
-                 g=g, G=G, Q=Q, name=f"quad3d ({gravity})")
+                 g=Kernel("g", k.quad3d_step, [g_down]), G=Kernel("G", k.quad3d_jacobian),
+                 Q=Kernel("Q", k.quad3d_noise, [*sa, sr]), name=f"quad3d ({gravity})")
 
 
 def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3), rate_hz: float | None = 10.0,
@@ -100,31 +80,19 @@ def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3)
     sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):
         raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
-    H = np.hstack([np.eye(6), np.zeros((6, 1))])
     return Sensor(name="gps", measurement_names=("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]"),
-                  h=lambda x: x[:6], H=lambda x: H, R=np.diag(sigma**2), rate_hz=rate_hz,
+                  h=Kernel("h", att.state_slice, [0, 6]), H=Kernel("H", att.selection_H, [0, 6, 7]),
+                  R=np.diag(sigma**2), rate_hz=rate_hz,
                   groups=((0, 1, 2), (3, 4, 5)), reset_after_s=reset_after_s)
-
-
-def _wrapped(a):  # wrap_angle without its argument check: the filters call this per sigma point
-    return np.pi - np.mod(np.pi - a, 2.0 * np.pi)
-
-
-def _yaw_residual(z, z_hat):
-    return _wrapped(np.subtract(z, z_hat))
-
-
-def _yaw_mean(Z, weights):
-    return np.array([np.arctan2(weights @ np.sin(Z[:, 0]), weights @ np.cos(Z[:, 0]))])
 
 
 def quad3d_mag_sensor(sigma_rad: float = 0.1, rate_hz: float | None = 100.0) -> Sensor:
     """Magnetometer heading (eqs. 56–58): ``h(x) = ψ``; innovations wrapped to (−π, π]."""
-    H = np.zeros((1, 7))
-    H[0, YAW] = 1.0
-    return Sensor(name="mag", measurement_names=("yaw [rad]",), h=lambda x: x[YAW:YAW + 1], H=lambda x: H,
-                  R=np.full((1, 1), as_positive("sigma_rad", sigma_rad) ** 2), residual=_yaw_residual,
-                  mean=_yaw_mean, rate_hz=rate_hz)
+    return Sensor(name="mag", measurement_names=("yaw [rad]",), h=Kernel("h", att.state_slice, [YAW, 1]),
+                  H=Kernel("H", att.selection_H, [YAW, 1, 7]),
+                  R=np.full((1, 1), as_positive("sigma_rad", sigma_rad) ** 2),
+                  residual=Kernel("residual", att.wrapped_difference), mean=Kernel("mean", att.circular_mean, [0]),
+                  rate_hz=rate_hz)
 
 
 def quad3d_baro_sensor(sigma_m: float = 0.5, rate_hz: float | None = 25.0) -> Sensor:
@@ -139,17 +107,8 @@ def quad3d_ukf_options() -> dict:
     """``residual_x`` and ``x_mean_fn`` for :class:`quadlib.ModelUKF`: the yaw is averaged on the
     circle and its differences are wrapped."""
 
-    def residual_x(a, b):
-        d = np.subtract(a, b)
-        d[YAW] = _wrapped(d[YAW])
-        return d
-
-    def x_mean_fn(sigmas, weights):
-        mean = weights @ sigmas
-        mean[YAW] = np.arctan2(weights @ np.sin(sigmas[:, YAW]), weights @ np.cos(sigmas[:, YAW]))
-        return mean
-
-    return {"residual_x": residual_x, "x_mean_fn": x_mean_fn}
+    return {"residual_x": Kernel("residual_x", att.angle_difference, [YAW]),
+            "x_mean_fn": Kernel("mean", att.circular_mean, [YAW])}
 
 
 def imu_inputs(dt_imu: float, accel, gyro, roll_pitch, decimate: int = 1) -> np.ndarray:

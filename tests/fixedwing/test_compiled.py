@@ -1,5 +1,5 @@
-"""The compiled fixed-wing filters — Salmony's EKF and the multiplicative EKF on the engine, the
-error-state UKF's own loop — give what the readable ones (ModelEKF and ModelUKF driven by
+"""The compiled fixed-wing filters — Salmony's EKF, the multiplicative EKF and the error-state UKF,
+all on the engine — give what the readable ones (ModelEKF and ModelUKF driven by
 run_filter) give: the same states, covariances and sensor traces, to 1e-10, through every branch —
 dropouts in every stream, held gyro rows, a failed pitot, gate rejections, a saturated gyro, no
 gate, a prefilter, a repeated timestamp."""
@@ -7,7 +7,6 @@ gate, a prefilter, a repeated timestamp."""
 import numpy as np
 import pytest
 
-from quadlib.fixedwing.compiled import error_state_ukf_pass
 from quadlib.fixedwing.estimate import (
     FixedWingTuning,
     error_state_ukf,
@@ -81,27 +80,23 @@ def test_the_cases_reach_every_branch(factory):
 @pytest.mark.parametrize("factory", list(FILTERS))
 def test_a_repeated_timestamp_is_dropped_alike(factory, assert_same_run):
     """run_filter drops a sample whose time repeats the one before within its precision; the engine
-    does the same, and the UKF's loop, which does not, hands such a log to run_filter."""
+    does the same."""
     short = FAULTY.slice(0, 300)
     t = short.t.copy()
     t[150] = t[149] + 1e-12  # the same time, within the clock's precision
     repeated = ImuLog(t, short.gyro, short.accel, short.mag, short.airspeed)
     run = estimate_fixedwing_attitude(repeated, NOISE, FILTERS[factory])
     assert run.sensors["mag"].duplicate[150]
-    assert run.engine == ("readable" if factory == "ES-UKF" else "compiled")
+    assert run.engine == "compiled"
     assert_same_run(run, estimate_fixedwing_attitude(repeated, NOISE, FILTERS[factory], compiled=False))
 
 
-def test_the_compiled_loop_stops_where_the_estimate_becomes_non_finite():
-    """NaN from that step on, instead of an exception inside the loop; the caller then hands the log
-    to run_filter, which names the step (or the argument at fault)."""
+def test_a_covariance_the_sigma_points_cannot_factor_is_named_where_it_happens():
+    """The engine's UKF stops where the covariance stops being positive definite and hands the log
+    to the readable loop, which raises there."""
     log = FAULTY.slice(0, 200)
-    rates = np.nan_to_num(log.gyro)  # the accelerometer's context
-    gyro = rates.copy()
+    gyro = log.gyro.copy()
     gyro[100] = 1e160  # the predict to step 101: φ·φ overflows
-    args = (log.t, gyro, log.accel, np.column_stack([rates, log.airspeed]), log.accel, rates, log.mag,
-            np.r_[1.0, 0, 0, 0, 0, 0, 0], 0.01 * np.eye(6), 0.04, 0.005, 1e-4, 0.0,
-            np.stack([np.eye(3)] * 3), np.array([0.4, 0.0, 0.9]), 9.8, 0.0)
-    xs, Ps, *_ = error_state_ukf_pass(*args, np.r_[-3.0, [1 / 3] * 12], np.r_[-0.25, [1 / 3] * 12], 1.5)
-    assert np.isfinite(xs[:101]).all() and np.isfinite(Ps[:101]).all()
-    assert np.isnan(xs[101:]).all() and np.isnan(Ps[101:]).all()
+    broken = ImuLog(log.t, gyro, log.accel, log.mag, log.airspeed)
+    with np.errstate(all="ignore"), pytest.raises(ValueError, match="P: expected a finite covariance for the sigma"):
+        estimate_fixedwing_attitude(broken, NOISE, error_state_ukf)

@@ -16,7 +16,8 @@ def test_the_one_call_ekf_is_chapter_8s_filter():
     x0 = np.concatenate([run.gps.z[0], run.mag.z[0]])
     by_hand = run_filter(ModelEKF(quad3d_model([2.0, 2.0, 1.5 / np.sqrt(10)], 0.5 / np.sqrt(10)), x0,
                                   np.diag([1.0, 1.0, 2.0, 0.1, 0.1, 0.3, 0.1]) ** 2, run.t[1] - run.t[0]),
-                         run.t, run.u, run3d_measurements(run, quad3d_gps_sensor(), quad3d_mag_sensor(0.1)))
+                         run.t, run.u, run3d_measurements(run, quad3d_gps_sensor(), quad3d_mag_sensor(0.1)),
+                         engine="readable")
     np.testing.assert_array_equal(result.x, by_hand.x)
     assert np.sqrt(np.mean(np.sum((result.x[:, :3] - run.truth[:, :3]) ** 2, axis=1))) < 1.0  # metres
     assert result.sigma.shape == (run.t.size, 7)
