@@ -29,7 +29,7 @@ from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
-from quadlib.imu import ImuLog, as_imu_stream, rates_to_interval_start
+from quadlib.imu import ImuLog, as_imu_stream, gyro_with_gaps, rates_to_interval_start
 from quadlib.kernels import attitude as attitude_maths
 from quadlib.model import Sensor
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
@@ -78,6 +78,14 @@ class OrientationParams:
     gyro_range_rad_s : float or None
         The gyro's full scale [rad/s]; a sample at it adds attitude uncertainty
         (:func:`~quadlib.imu.saturated_step_variance`). None: never saturates.
+    gyro_gap_accel_rad_s2 : float or None
+        How fast the turn rate may change [rad/s²] while the gyro is missing (NaN rows): the last
+        real sample stands in for the missing ones, ``τ`` seconds after it with an attitude variance
+        of ``(α τ Δt)²`` per step (:func:`~quadlib.imu.untrusted_gyro_noise`), and the accelerometer's
+        low-pass starts afresh once the gap may have turned its frame by more than a degree
+        (``α τ²/2``). 100 rad/s², a hand-held turn reaching 1000 °/s in a sixth of a second: one
+        missing sample costs nothing, half a second leaves the attitude unknown and the filter
+        finds it again from gravity and the field. None: a gap is bridged at the last rate, trusted.
     accel_tau_s : float or None
         Time constant [s] of the accelerometer's low-pass in the non-rotating frame
         (:func:`inertial_lowpass`); None: the raw samples. VQF's default is 3 s; here the EKF
@@ -103,6 +111,7 @@ class OrientationParams:
     gate_probability: float | None = 0.999
     checks: SensorChecks = field(default_factory=SensorChecks)
     gyro_range_rad_s: float | None = None
+    gyro_gap_accel_rad_s2: float | None = 100.0
     accel_tau_s: float | None = 1.5
     mag_settle_s: float | None = 0.5
     rest_gyro_rad_s: float = float(np.radians(2.0))
@@ -114,7 +123,8 @@ class OrientationParams:
                             "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
                             "tilt_aware_heading": "bool", "initial_bias_sigma_rad_s": "positive",
                             "gate_probability": "optional probability",
-                            "gyro_range_rad_s": "optional positive", "accel_tau_s": "optional positive",
+                            "gyro_range_rad_s": "optional positive",
+                            "gyro_gap_accel_rad_s2": "optional positive", "accel_tau_s": "optional positive",
                             "mag_settle_s": "optional positive", "rest_gyro_rad_s": "positive",
                             "rest_accel_m_s2": "positive", "rest_min_s": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
@@ -254,7 +264,8 @@ def _held_rows(values: np.ndarray) -> np.ndarray:
     return np.where((last >= 0)[:, None], values[np.maximum(last, 0)], 0.0)
 
 
-def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool = False) -> np.ndarray:
+def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool = False,
+                     gap_accel_rad_s2: float | None = None) -> np.ndarray:
     """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
     body frame.
 
@@ -264,7 +275,9 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
     average out, since its velocity stays bounded (VQF's idea, Laidig & Seel 2023, §3). The
     gyro's drift blurs the result: a bias ``b`` tilts the average by about ``|b| τ``, so
     ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. A missing gyro sample
-    (a NaN row) turns the frame at the rate before it. Missing accelerometer samples hold the
+    (a NaN row) turns the frame at the rate before it; with ``gap_accel_rad_s2`` (``α``), once a gap
+    of ``τ`` seconds may have turned it by more than a degree, ``α τ²/2``, the frame is lost and the
+    average starts afresh at the next sample. Missing accelerometer samples hold the
     average. Every other sample counts, the violent ones too: the accelerations cancel only as a
     whole, and an average that left out the largest of them would keep the rest (on BROAD's
     fast-translation trial 16, leaving out the samples 50 m/s² off g₀ tilted it by up to 40°).
@@ -276,11 +289,17 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
     gyro = log.gyro if gyro_bias is None else log.gyro - np.broadcast_to(as_finite_array("gyro_bias", gyro_bias),
                                                                           log.gyro.shape)
     usable = ~np.isnan(log.accel).any(axis=1)
+    lost = np.zeros(len(log), bool)
+    if gap_accel_rad_s2 is not None:  # the step into sample k turned with row k − 1
+        alpha = as_positive("gap_accel_rad_s2", gap_accel_rad_s2)
+        held_for = gyro_with_gaps(log.t, gyro)[:, 3]
+        lost[1:] = alpha * (held_for[:-1] + np.diff(log.t)) ** 2 / 2 > np.radians(1.0)
+        lost[1:] &= held_for[:-1] > 0
     gyro = np.ascontiguousarray(_held_rows(gyro), dtype=float)
-    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, tau, False)
+    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, False)
     if not two_sided:
         return forward
-    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, tau, True)
+    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, True)
     both = 0.5 * (forward + backward)
     return np.where(np.isnan(forward), backward, np.where(np.isnan(backward), forward, both))
 
@@ -358,11 +377,18 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
     if params.accel_tau_s is None:
         run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, engine)
     else:
-        tau = params.accel_tau_s
-        first, _ = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau), offline, engine)
-        gravity = inertial_lowpass(log, tau, first.x[:, 4:], two_sided=offline)
+        tau, alpha = params.accel_tau_s, params.gyro_gap_accel_rad_s2
+        first, _ = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, gap_accel_rad_s2=alpha),
+                                     offline, engine)
+        gravity = inertial_lowpass(log, tau, first.x[:, 4:], two_sided=offline, gap_accel_rad_s2=alpha)
         run, model = _orientation_pass(log, params, declination_rad, gravity, offline, engine, first.x[:, :4])
-    return rts_smooth(model, run, log.gyro, engine=engine) if offline else run
+    return rts_smooth(model, run, _gyro_input(log, params), engine=engine) if offline else run
+
+
+def _gyro_input(log: ImuLog, params: OrientationParams) -> np.ndarray:
+    """The filter's input: the gyro, with the seconds each held row stands in (:func:`~quadlib.imu.gyro_with_gaps`)
+    when the model prices gaps."""
+    return log.gyro if params.gyro_gap_accel_rad_s2 is None else gyro_with_gaps(log.t, log.gyro)
 
 
 def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool,
@@ -380,7 +406,8 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
             good_m = settled(good_m, np.isfinite(log.mag).all(axis=1), log.t, params.mag_settle_s)
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
-    model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s)
+    model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,
+                                params.gyro_gap_accel_rad_s2)
     ekf = ModelEKF(model, np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
     measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2, gated=params.accel_tau_s is None), log.t,
                                  accel)]
@@ -395,5 +422,8 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)
         measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
                                          np.where(rest[:, None], log.gyro, np.nan)))
-    return run_filter(ekf, log.t, log.gyro, measurements, gate_probability=params.gate_probability,
-                      engine=engine), model
+    run = run_filter(ekf, log.t, _gyro_input(log, params), measurements, gate_probability=params.gate_probability,
+                     engine=engine)
+    held = np.isnan(log.gyro).any(axis=1)
+    held[-1] = False  # the last row is never used
+    return replace(run, held_input=held), model
