@@ -17,6 +17,7 @@ magnetometer never touches it (see :func:`heading_sensor`).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -333,23 +334,27 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
             raise TypeError("gyr, acc, mag: expected none of them with an ImuLog as t, got "
                             f"{[k for k, v in (('gyr', gyr), ('acc', acc), ('mag', mag)) if v is not None]}")
         log = t
-        names = ("t.t", "t.gyro", "t.accel")
+        names = ("t.t", "t.gyro", "t.accel", "t.mag")
     else:
         t = as_times("t", t)
         n = t.size
         gyr = as_imu_stream("gyr", gyr, n)
         log = ImuLog(t, rates_to_interval_start(gyr), as_imu_stream("acc", acc, n),
                      as_imu_stream("mag", mag, n, required=False))
-        names = ("t", "gyr", "acc")
-    check_imu_units(log.t, log.gyro, log.accel, names)
+        names = ("t", "gyr", "acc", "mag")
+    check_imu_units(log.t, log.gyro, log.accel, names[:3])
     first = int(np.argmax(np.isfinite(log.gyro).all(axis=1)))
     if first:  # no rate before the first reading: hold the first one back to the start
         log = replace(log, gyro=np.vstack([np.repeat(log.gyro[first:first + 1], first, axis=0), log.gyro[first:]]))
     if log.mag is not None:
-        check_mag_frame(log.t, log.gyro, log.mag, ("t.mag", "t.gyro") if names[0] == "t.t" else ("mag", "gyr"))
+        check_mag_frame(log.t, log.gyro, log.mag, (names[3], names[1]))
     run = orientation_run(log, OrientationParams() if params is None else params, offline=offline,
                           declination_rad=declination_rad)
-    warn_unused(run.sensors)
+    if log.mag is not None and "heading" not in run.sensors:
+        warnings.warn(f"{names[3]}: expected at least one reading that gives a heading, got none; the heading is "
+                      "the gyro's alone, from body x (or y) pointing north at the start", stacklevel=2)
+    streams = {} if log.mag is None else {"heading": (names[3], np.isfinite(log.mag).all(axis=1))}
+    warn_unused(run.sensors, streams)
     return run.x[:, :4]
 
 
