@@ -318,7 +318,10 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
         Gyro [rad/s] and accelerometer [m/s²] in the sensor frame; NaN rows are missing samples.
         ``gyr[k]`` is the rate over the interval that *ends* at ``t[k]``, ``(t[k−1], t[k]]``, as
         most IMUs, VQF and BROAD have it: each row is moved one earlier for the filter (the first
-        row's interval lies before the log and is not used).
+        row's interval lies before the log and is not used). ``acc`` is the specific force, what an
+        accelerometer reads: ``(0, 0, −9.81)`` lying level in FRD. Gravity itself, its negative,
+        reads like a sensor mounted upside down and cannot be told from one by the IMU alone: it is
+        not caught (the estimate is then 180° off).
     mag : (N, 3) array_like, optional
         Magnetometer (any unit: only its direction is used); without it the heading is the gyro's.
     params : OrientationParams, optional
