@@ -20,10 +20,10 @@ import numpy as np
 
 from quadlib.constants import SATURATED
 from quadlib.engine.kernel import Kernel
-from quadlib.kernels.attitude import gyro_saturation
+from quadlib.kernels.attitude import gyro_input_noise
 from quadlib.validation import as_float_array, as_positive, as_times, check_fields
 
-__all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_saturation_noise", "rates_to_interval_start",
+__all__ = ["ImuLog", "ImuNoise", "as_imu_stream", "gyro_with_gaps", "rates_to_interval_start", "untrusted_gyro_noise",
            "saturated_step_variance"]
 
 
@@ -79,17 +79,42 @@ def saturated_step_variance(gyro, dt: float, gyro_range_rad_s: float | None) -> 
     return (gyro_range_rad_s * dt) ** 2
 
 
-def gyro_saturation_noise(gyro_range_rad_s: float | None, scale) -> Kernel | None:
-    """A model's ``input_noise`` (:class:`~quadlib.Model`) for a gyro-driven step: in a saturated
-    step, ``diag(scale) · v`` with ``v`` from :func:`saturated_step_variance` (``scale`` maps the
-    per-axis angle variance onto the error state: 1 per rotation axis, ¼ per quaternion
-    component, 0 for states the gyro does not move). None without a range. The kernel
-    :func:`~quadlib.kernels.attitude.gyro_saturation`, which the compiled engine calls too."""
-    if gyro_range_rad_s is None:
+def untrusted_gyro_noise(gyro_range_rad_s: float | None, scale, gap_accel_rad_s2: float | None = None) -> Kernel | None:
+    """A model's ``input_noise`` (:class:`~quadlib.Model`) for a gyro-driven step whose sample
+    cannot be fully trusted: ``diag(scale) · v`` with ``v`` the variance per axis of the unknown turn
+    (``scale`` maps it onto the error state: 1 per rotation axis, ¼ per quaternion component, 0 for
+    states the gyro does not move). Two cases, each off when its argument is None:
+
+    * a saturated sample, ``v`` from :func:`saturated_step_variance` (``gyro_range_rad_s``);
+    * a held sample, one that stands in for a missing one (:func:`gyro_with_gaps`, the input's fourth
+      column ``τ``, the seconds since the last real sample): the rate may have changed by up to about
+      ``α τ`` since, ``α = gap_accel_rad_s2``, so ``v = (α τ Δt)²``. One missing sample costs
+      almost nothing; half a second without the gyro leaves the attitude unknown.
+
+    None when both are off. The kernel :func:`~quadlib.kernels.attitude.gyro_input_noise`, which the
+    compiled engine calls too."""
+    if gyro_range_rad_s is None and gap_accel_rad_s2 is None:
         return None
-    gyro_range_rad_s = as_positive("gyro_range_rad_s", gyro_range_rad_s)
     scale = np.asarray(scale, dtype=float).reshape(-1)
-    return Kernel("input_noise", gyro_saturation, [gyro_range_rad_s, scale.size, *scale])
+    full_scale = 0.0 if gyro_range_rad_s is None else as_positive("gyro_range_rad_s", gyro_range_rad_s)
+    alpha = 0.0 if gap_accel_rad_s2 is None else as_positive("gap_accel_rad_s2", gap_accel_rad_s2)
+    return Kernel("input_noise", gyro_input_noise, [full_scale, scale.size, *scale, alpha])
+
+
+def gyro_with_gaps(t: np.ndarray, gyro: np.ndarray) -> np.ndarray:
+    """``(N, 4)``: the gyro rows with each missing (NaN) row holding the last real one before it (the
+    first real one before any), and a fourth column ``τ``, the seconds since that last real row
+    (0 for a real row): the input of a model built with ``gap_accel_rad_s2``
+    (:func:`untrusted_gyro_noise`)."""
+    missing = np.isnan(gyro).any(axis=1)
+    if missing.all():
+        raise ValueError("gyro: expected at least one complete reading, got none")
+    rows = np.arange(len(gyro))
+    last = np.maximum.accumulate(np.where(missing, -1, rows))
+    first = int(np.argmax(~missing))
+    source = np.where(last >= 0, last, first)
+    since = np.where(missing & (last >= 0), t - t[np.maximum(last, 0)], 0.0)
+    return np.column_stack([gyro[source], since])
 
 
 def as_imu_stream(name: str, value, n: int, width: int | None = 3, required: bool = True) -> np.ndarray | None:

@@ -14,7 +14,8 @@ and name the caller's argument, the unit expected and what was seen:
 * GPS positions that barely move while its velocities carry the vehicle metres away are degrees
   of latitude and longitude, not metres.
 
-:func:`warn_unused` warns after a run when the gate rejected over 99 % of a sensor's samples.
+:func:`warn_unused` warns after a run when a sensor's update used under 1 % of its samples, and
+says why: the plausibility checks or the χ² gate refused them, or there were none.
 """
 
 from __future__ import annotations
@@ -132,13 +133,26 @@ def check_gps_metres(gps_t: np.ndarray, gps: np.ndarray, name: str = "gps") -> N
                          "in degrees? convert with quadlib.geometry.geodetic_to_ned)")
 
 
-def warn_unused(sensors: dict, fraction: float = 0.01) -> None:
-    """Warn for each sensor trace with at least 100 samples offered to the filter (present and
-    plausible) of which under ``fraction`` were used: the χ² gate rejected the rest, which a wrong
-    unit, frame or declination does."""
+def warn_unused(sensors: dict, streams: dict | None = None, fraction: float = 0.01) -> None:
+    """Warn for each sensor trace whose update used under ``fraction`` of the samples it had.
+
+    Without ``streams``: of the samples offered to the filter (present and plausible), when at
+    least 100 were, named by the trace. With ``streams`` (trace name → the caller's argument and
+    its ``(N,)`` rows that hold a reading): of the readings the caller gave, named by the argument,
+    with how many the plausibility checks and how many the χ² gate refused.
+    """
     for name, trace in sensors.items():
-        offered = int(trace.t.size - np.sum(trace.duplicate | trace.missing))
-        used = int(np.sum(trace.used))
-        if offered >= 100 and used < fraction * offered:
-            warnings.warn(f"{name}: used {used} of the {offered} samples offered ({int(np.sum(trace.rejected))} "
-                          "rejected by the χ² gate); check its units, frame and the declination", stacklevel=3)
+        rejected, used = int(np.sum(trace.rejected)), int(np.sum(trace.used))
+        if streams is None or name not in streams:
+            offered = int(trace.t.size - np.sum(trace.duplicate | trace.missing))
+            if offered >= 100 and used < fraction * offered:
+                warnings.warn(f"{name}: used {used} of the {offered} samples offered ({rejected} rejected by the χ² "
+                              "gate); check its units, frame and the declination", stacklevel=3)
+            continue
+        argument, present = streams[name]
+        given = int(np.sum(present))
+        if given >= 100 and used < fraction * given:
+            failed = given - used - rejected
+            warnings.warn(f"{argument}: the {name} update used {used} of its {given} readings ({failed} failed the "
+                          f"plausibility checks, {rejected} were refused by the χ² gate); check its unit, frame and "
+                          "the declination", stacklevel=3)

@@ -17,6 +17,7 @@ __all__ = [
     "as_finite_array",
     "as_finite_number",
     "as_instance",
+    "as_mask",
     "as_float_array",
     "as_matrix",
     "as_positive",
@@ -197,6 +198,14 @@ def as_count(name: str, value, low: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
         raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
     return int(value)
+
+
+def as_mask(name: str, value, n: int) -> np.ndarray:
+    """Return ``value`` as an ``(n,)`` bool array (one flag per sample); other dtypes are refused."""
+    mask = np.asarray(value)
+    if mask.dtype != bool or mask.shape != (n,):
+        raise ValueError(f"{name}: expected a bool array of shape ({n},), got {mask.dtype} {mask.shape}")
+    return mask
 
 
 def as_times(name: str, value) -> np.ndarray:

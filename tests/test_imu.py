@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise, saturated_step_variance
+from quadlib.imu import ImuLog, ImuNoise, saturated_step_variance, untrusted_gyro_noise
 
 
 def test_a_log_holds_read_only_streams_and_slices():
@@ -41,9 +41,9 @@ def test_a_saturated_gyro_sample_adds_the_variance_of_one_more_full_scale_step()
     assert saturated_step_variance([0.0, 34.0, 0.0], 0.004, 35.0) is None  # within range
     assert saturated_step_variance([0.0, -35.0, 0.0], 0.004, 35.0) == pytest.approx((35.0 * 0.004) ** 2)
     assert saturated_step_variance([0.0, 1e3, 0.0], 0.004, None) is None  # no range: never saturated
-    noise = gyro_saturation_noise(35.0, [1.0, 1.0, 1.0, 0.0])
+    noise = untrusted_gyro_noise(35.0, [1.0, 1.0, 1.0, 0.0])
     np.testing.assert_allclose(noise(np.array([35.0, 0.0, 0.0]), 0.01), np.diag([0.35**2] * 3 + [0.0]))
-    assert noise(np.zeros(3), 0.01) is None and gyro_saturation_noise(None, [1.0]) is None
+    assert noise(np.zeros(3), 0.01) is None and untrusted_gyro_noise(None, [1.0]) is None
     with pytest.raises(ValueError, match=r"ImuNoise.gyro_range_rad_s: expected a finite number > 0 or None, "
                                          r"got -1.0"):
         ImuNoise(gyro_range_rad_s=-1.0)

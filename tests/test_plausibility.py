@@ -132,3 +132,13 @@ def test_streams_without_a_reading_are_named_and_a_late_first_gyro_reading_is_he
     late = GYR[:3000].copy()
     late[:5] = np.nan
     assert np.isfinite(estimate_orientation(T[:3000], late, ACC[:3000], MAG[:3000])).all()
+
+
+def test_a_magnetometer_the_filter_cannot_use_is_named_with_why():
+    with pytest.warns(UserWarning, match=r"^mag: expected at least one reading that gives a heading, got none"):
+        estimate_orientation(T, GYR, ACC, np.full_like(MAG, np.nan))
+    far_off = MAG.copy()
+    far_off[50:] *= 3.0  # a field three times the start's: every later reading fails the strength check
+    with pytest.warns(UserWarning, match=r"^mag: the heading update used \d+ of its 20000 readings \(\d+ failed the "
+                                         r"plausibility checks, \d+ were refused by the χ² gate\)"):
+        estimate_orientation(T, GYR, ACC, far_off)

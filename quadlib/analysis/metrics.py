@@ -28,6 +28,7 @@ from quadlib.validation import (
     as_finite_array,
     as_finite_number,
     as_float_array,
+    as_mask,
     as_positive,
     as_probability,
     as_quaternions,
@@ -105,9 +106,7 @@ def broad_errors(q_estimate, q_truth, movement=None) -> dict[str, float]:
     q_true = np.asarray(q_truth, dtype=float)
     if q_true.shape != q_est.shape or q_est.ndim != 2:
         raise ValueError(f"q_estimate, q_truth: expected the same (N, 4) shape, got {q_est.shape} and {q_true.shape}")
-    mask = np.ones(len(q_est), bool) if movement is None else np.asarray(movement)
-    if mask.dtype != bool or mask.shape != (len(q_est),):
-        raise ValueError(f"movement: expected a bool array of shape ({len(q_est)},), got {mask.dtype} {mask.shape}")
+    mask = np.ones(len(q_est), bool) if movement is None else as_mask("movement", movement, len(q_est))
     keep = mask & ~np.isnan(q_true).any(axis=1)
     if not keep.any():
         raise ValueError("movement, q_truth: expected at least one moving sample with a truth, got none")

@@ -12,7 +12,7 @@ import numpy as np
 
 from quadlib.compiled_kernels import attitude_bias_jacobian
 from quadlib.engine.kernel import Kernel
-from quadlib.imu import gyro_saturation_noise
+from quadlib.imu import untrusted_gyro_noise
 from quadlib.kernels import attitude as k
 from quadlib.model import Model
 from quadlib.validation import as_positive, as_vector
@@ -88,7 +88,7 @@ def _gyro_noise(sg: float, sb: float, quaternion: bool) -> Kernel:
 
 
 def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: float,
-                        gyro_range_rad_s: float | None = None) -> Model:
+                        gyro_range_rad_s: float | None = None, gap_accel_rad_s2: float | None = None) -> Model:
     """Attitude ``q_nb`` and gyro bias ``b`` (7 states) with a 6-D error ``[δθ, δb]`` (``q ⊗ exp(δθ)``,
     ``b + δb``) and the exact gyro step ``q ⊗ exp((ω − b) Δt)``: the multiplicative EKF's model in
     :class:`~quadlib.ModelEKF`, the error-state UKF's in :class:`~quadlib.ModelUKF`. A sensor's ``H``
@@ -97,17 +97,20 @@ def attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_sqrt_s: fl
     .. math:: Q = \\mathrm{diag}\\big((\\sigma_\\omega \\Delta t)^2 I_3,\\; \\sigma_b^2 \\Delta t\\, I_3\\big)
 
     With ``gyro_range_rad_s``, a saturated gyro sample adds the attitude variance of
-    :func:`~quadlib.imu.saturated_step_variance`.
+    :func:`~quadlib.imu.saturated_step_variance`. With ``gap_accel_rad_s2`` the input has a fourth
+    column, the seconds a held sample stands in for missing ones (:func:`~quadlib.imu.gyro_with_gaps`),
+    and a held sample adds attitude variance that grows with it (:func:`~quadlib.imu.untrusted_gyro_noise`).
     """
     sg = as_positive("gyro_sigma_rad_s", gyro_sigma_rad_s)
     sb = as_positive("gyro_bias_walk_rad_s_sqrt_s", gyro_bias_walk_rad_s_sqrt_s)
-    return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES,
+    inputs = GYRO_NAMES if gap_accel_rad_s2 is None else GYRO_NAMES + ("held for [s]",)
+    return Model(state_names=STATE_NAMES, input_names=inputs,
                  g=_step,
                  G=_error_jacobian, Q=_gyro_noise(sg, sb, quaternion=False),
                  error_names=("dtheta_x", "dtheta_y", "dtheta_z", "db_p", "db_q", "db_r"),
                  state_add=_add_error, residual_x=_error_between, add_jacobian=_add_jacobian,
                  normalize=_normalized,
-                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [1.0] * 3 + [0.0] * 3),
+                 input_noise=untrusted_gyro_noise(gyro_range_rad_s, [1.0] * 3 + [0.0] * 3, gap_accel_rad_s2),
                  name="attitude and gyro bias, error state")
 
 
@@ -128,4 +131,4 @@ def additive_attitude_bias_model(gyro_sigma_rad_s: float, gyro_bias_walk_rad_s_s
     return Model(state_names=STATE_NAMES, input_names=GYRO_NAMES, g=_step, G=_step_jacobian,
                  Q=_gyro_noise(sg, sb, quaternion=True),
                  normalize=_normalized, normalize_jacobian=_normalized_jacobian,
-                 input_noise=gyro_saturation_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3), name=name)
+                 input_noise=untrusted_gyro_noise(gyro_range_rad_s, [0.25] * 4 + [0.0] * 3), name=name)

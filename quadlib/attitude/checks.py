@@ -14,6 +14,12 @@ skipped — no state, no timer: trust returns with the first plausible sample.
   without changing its strength); and runs of bit-identical readings (a stuck sensor: real
   readings carry noise, so several equal ones in a row mean the value is frozen).
 
+A filter that has an attitude of its own can measure the dip against it instead
+(``plausible_mag(..., q_nb=...)``): the accelerometer's down swings with every translation, the
+estimate's does not. And a disturbance seldom ends the moment its first plausible sample arrives
+(a magnet moving away passes through plausible values on its way): :func:`settled` keeps a
+sample out until its stream has been plausible for a while.
+
 VQF and many AHRS use the same two tests; the thresholds here are wide enough that sensor
 noise and ordinary flight never trip them.
 """
@@ -25,10 +31,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.constants import G0
+from quadlib.geometry.quaternion import quat_to_dcm
 from quadlib.samples import stuck_rows
-from quadlib.validation import as_float_array, as_instance, as_vectors3, check_fields
+from quadlib.validation import (
+    as_float_array,
+    as_instance,
+    as_mask,
+    as_positive,
+    as_quaternions,
+    as_times,
+    as_vectors3,
+    check_fields,
+)
 
-__all__ = ["SensorChecks", "plausible_accel", "plausible_mag"]
+__all__ = ["SensorChecks", "plausible_accel", "plausible_mag", "settled"]
 
 
 @dataclass(frozen=True)
@@ -77,17 +93,24 @@ def plausible_accel(accel, checks: SensorChecks) -> np.ndarray:
     return ok
 
 
-def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
+def plausible_mag(mag, accel, field_n, checks: SensorChecks, *, q_nb=None) -> np.ndarray:
     """``(N,)`` bool: the sample is there, its norm is within tolerance of ``|field_n|`` and, where
     the accelerometer gives a plausible down direction, its dip is within tolerance of the reference.
 
-    ``field_n`` is the reference field in NED, in the magnetometer's unit.
+    ``field_n`` is the reference field in NED, in the magnetometer's unit. ``q_nb`` ((N, 4), an
+    attitude estimate per sample): the dip is measured against its down direction instead, and
+    ``accel`` is not used (it may be None).
     """
     checks = as_instance("checks", checks, SensorChecks)
     m = _samples3("mag", mag)
-    a = _samples3("accel", accel)
-    if a.shape != m.shape:
-        raise ValueError(f"accel: expected the shape of mag {m.shape}, got {a.shape}")
+    if q_nb is None:
+        a = _samples3("accel", accel)
+        if a.shape != m.shape:
+            raise ValueError(f"accel: expected the shape of mag {m.shape}, got {a.shape}")
+    else:
+        q = as_quaternions("q_nb", q_nb)
+        if q.shape != (m.shape[0], 4):
+            raise ValueError(f"q_nb: expected one quaternion per mag sample, shape {(m.shape[0], 4)}, got {q.shape}")
     field = as_vectors3("field_n", field_n)
     strength = float(np.linalg.norm(field))
     norm = np.linalg.norm(m, axis=-1)
@@ -96,11 +119,29 @@ def plausible_mag(mag, accel, field_n, checks: SensorChecks) -> np.ndarray:
         if checks.mag_norm_tolerance is not None:
             ok &= np.abs(norm / strength - 1.0) <= checks.mag_norm_tolerance
         if checks.mag_dip_tolerance_rad is not None:
-            down_known = plausible_accel(a, checks) & ok
-            down = -a / np.linalg.norm(a, axis=-1, keepdims=True)
+            if q_nb is None:
+                down_known = plausible_accel(a, checks) & ok
+                down = -a / np.linalg.norm(a, axis=-1, keepdims=True)
+            else:  # NED's down in the body frame: the third row of R(q)
+                down_known, down = np.isfinite(q).all(axis=-1), quat_to_dcm(q)[..., 2, :]
             dip = np.arcsin(np.clip(np.sum(m * down, axis=-1) / norm, -1.0, 1.0))
             reference_dip = np.arcsin(field[2] / strength)
             ok &= ~down_known | (np.abs(dip - reference_dip) <= checks.mag_dip_tolerance_rad)
     if checks.mag_stuck_samples is not None:
         ok &= ~stuck_rows(m, checks.mag_stuck_samples)
     return ok
+
+
+def settled(ok, present, t, settle_s: float) -> np.ndarray:
+    """``(N,)`` bool: ``ok`` where the stream has been plausible for at least ``settle_s`` seconds,
+    counted from the last sample that was ``present`` but not ``ok`` (a missing sample neither
+    breaks nor extends the run).
+
+    ``ok``, ``present``: ``(N,)`` bool masks over the samples at times ``t`` [s].
+    """
+    t = as_times("t", t)
+    ok, present = as_mask("ok", ok, t.size), as_mask("present", present, t.size)
+    settle_s = as_positive("settle_s", settle_s)
+    failed = present & ~ok
+    last_failure = np.maximum.accumulate(np.where(failed, t, -np.inf))
+    return ok & (t - last_failure >= settle_s)

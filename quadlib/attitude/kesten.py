@@ -55,7 +55,7 @@ from quadlib.geometry.quaternion import (
     quat_to_rotvec,
 )
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
-from quadlib.imu import ImuLog, ImuNoise, gyro_saturation_noise
+from quadlib.imu import ImuLog, ImuNoise, untrusted_gyro_noise
 from quadlib.kernels import attitude as attitude_maths
 from quadlib.kernels import kesten as kesten_maths
 from quadlib.model import Model, Sensor
@@ -203,7 +203,7 @@ def _gyro_quaternion_model(noise: AttitudeNoise) -> Model:
     """``q ← q ⊗ exp(ω Δt)`` on the 4 components, process noise ``(σ_ω Δt/2)² I₄``."""
     return Model(state_names=("w", "x", "y", "z"), input_names=("p", "q", "r"),
                  g=_QUATERNION_STEP, G=_identity(4), Q=_gyro_noise(noise, 4, 0.25), normalize=_NORMALIZE,
-                 input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
+                 input_noise=untrusted_gyro_noise(noise.gyro_range_rad_s, [0.25] * 4), name="gyro-driven quaternion")
 
 
 def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
@@ -215,7 +215,7 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
                  g=_QUATERNION_STEP, G=_identity(n), Q=_gyro_noise(noise, n, 1.0),
                  state_add=Kernel("state_add", kesten_maths.rotation_blocks_add, [blocks]),
                  residual_x=Kernel("residual_x", kesten_maths.rotation_blocks_difference, [blocks]),
-                 normalize=_NORMALIZE, input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * n),
+                 normalize=_NORMALIZE, input_noise=untrusted_gyro_noise(noise.gyro_range_rad_s, [1.0] * n),
                  name="gyro-driven rotation error")
 
 
@@ -230,7 +230,7 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     s0 = _checked(noise, sigma0_rad, checks)
     model = Model(state_names=("theta_x", "theta_y", "theta_z"), input_names=("p", "q", "r"),
                   g=Kernel("g", kesten_maths.orientation_vector_step), G=_identity(3),
-                  Q=_gyro_noise(noise, 3, 1.0), input_noise=gyro_saturation_noise(noise.gyro_range_rad_s, [1.0] * 3),
+                  Q=_gyro_noise(noise, 3, 1.0), input_noise=untrusted_gyro_noise(noise.gyro_range_rad_s, [1.0] * 3),
                   name="orientation vector")
     h, H = _measured_states(3, 3)
     # the residual: z, or the same attitude turned the other way round, whichever is nearer x

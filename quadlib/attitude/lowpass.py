@@ -40,9 +40,10 @@ def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
 
 @called_from_python
 @njit(cache=True)
-def inertial_lowpass_pass(t, gyro, accel, usable, tau, backward):
+def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
     """One direction of :func:`~quadlib.attitude.orientation.inertial_lowpass`: the frame is
-    integrated from the gyro over each step, forwards or backwards in time."""
+    integrated from the gyro over each step, forwards or backwards in time, and the average starts
+    afresh after a step whose turn is lost (``lost[k]``: the step from sample ``k − 1`` to ``k``)."""
     n = t.shape[0]
     out = np.full_like(accel, np.nan)
     q = np.array([1.0, 0.0, 0.0, 0.0])
@@ -55,6 +56,8 @@ def inertial_lowpass_pass(t, gyro, accel, usable, tau, backward):
             step = t[k] - t[previous]
             rate = gyro[previous] if step > 0 else -gyro[k]
             q = multiply(q, exp_rotvec(rate * abs(step)))
+            if lost[max(k, previous)]:
+                have_mean = False
         R = dcm(q)
         if usable[k]:
             a_i = R @ accel[k]

@@ -27,7 +27,7 @@ TABLES = {
     "G": (att.attitude_error_jacobian, att.attitude_step_jacobian, att.identity_jacobian, ins.strapdown_error_jacobian,
           quad3d.quad3d_jacobian),
     "Q": (att.gyro_noise, ins.strapdown_noise, quad3d.quad3d_noise),
-    "input_noise": (att.gyro_saturation,),
+    "input_noise": (att.gyro_input_noise,),
     "state_add": (att.attitude_bias_add, kesten.rotation_blocks_add),
     "residual_x": (att.attitude_bias_difference, kesten.rotation_blocks_difference, att.angle_difference),
     "add_jacobian": (att.attitude_bias_add_jacobian,),
@@ -88,7 +88,7 @@ def process_noise(kind, dt, p):
 @njit(cache=True, inline="always")
 def input_noise(kind, u, dt, p):
     """``(added, M)``: the noise the input ``u`` adds over ``dt``."""
-    return att.gyro_saturation(u, dt, p)
+    return att.gyro_input_noise(u, dt, p)
 
 
 @njit(cache=True, inline="always")

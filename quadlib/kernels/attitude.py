@@ -50,13 +50,13 @@ def attitude_bias_step(x, u, dt, p):
 @njit(cache=True)
 def attitude_error_jacobian(x, u, dt, p):
     """``G`` of the error ``[δθ, δb]``, ``(6, 6)``: ``R(φ)ᵀ`` and ``−Δt J_r(φ)``, ``φ = (ω − b) Δt``."""
-    return attitude_bias_jacobian((u - x[4:]) * dt, dt)
+    return attitude_bias_jacobian((u[:3] - x[4:7]) * dt, dt)
 
 
 @njit(cache=True)
 def attitude_step_jacobian(x, u, dt, p):
     """``G`` of the additive 7-state, ``∂[q ⊗ exp(φ), b]/∂[q, b]``, exact."""
-    q, phi = x[:4], (u - x[4:]) * dt
+    q, phi = x[:4], (u[:3] - x[4:7]) * dt
     theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
     c = math.cos(theta / 2.0)
     sinc = math.sin(0.5 * theta) / theta if theta > 1e-6 else 0.5 - theta**2 / 48.0  # sin(θ/2)/θ
@@ -91,14 +91,21 @@ def gyro_noise(dt, p):
 
 
 @njit(cache=True)
-def gyro_saturation(u, dt, p):
-    """The input noise of a clipped gyro sample, ``p = [range, n, s₁ … s_n]``: ``(range Δt)² diag(s)``
-    when ``u`` is at the full scale (:func:`~quadlib.imu.saturated_step_variance`)."""
+def gyro_input_noise(u, dt, p):
+    """The input noise of a gyro sample that cannot be trusted, ``p = [range, n, s₁ … s_n, α]``:
+    ``(range Δt)² diag(s)`` when ``u[:3]`` is at the full scale (:func:`~quadlib.imu.saturated_step_variance`;
+    ``range ≤ 0``: never), and ``(α τ Δt)² diag(s)`` when the sample is a held one, ``u[3] = τ`` seconds
+    after the last real sample (:func:`~quadlib.imu.gyro_with_gaps`; the rate may have changed by
+    ``α τ`` since, ``α`` [rad/s²]). Returns ``(added, M)``."""
     n = int(p[1])
     M = np.zeros((n, n))
-    if not saturated(u, p[0]):
+    v = 0.0
+    if saturated(u[:3], p[0]):
+        v += (p[0] * dt) ** 2
+    if u.shape[0] > 3 and u[3] > 0.0:
+        v += (p[2 + n] * u[3] * dt) ** 2
+    if v == 0.0:
         return False, M
-    v = (p[0] * dt) ** 2
     for i in range(n):
         M[i, i] = v * p[2 + i]
     return True, M

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from quadlib.analysis.metrics import attitude_error
-from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
+from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.tumble import random_rotation
 from quadlib.imu import ImuLog
@@ -74,3 +74,25 @@ def test_without_the_checks_the_filters_are_pulled_off():
 def test_bad_checks_are_named():
     with pytest.raises(TypeError, match="checks: expected a SensorChecks, got dict"):
         FILTERS["QF"](NOISE, checks={})
+
+
+def test_the_dip_is_checked_against_an_attitude_when_one_is_given():
+    """A sideways acceleration tilts the accelerometer's down by 27° and with it the dip it sees;
+    measured against the attitude, the same field is plausible."""
+    field = NOISE.field_n
+    shaken = np.array([[5.0, 0.0, -9.81]])  # level sensor, 5 m/s² along x
+    assert not plausible_mag(field[None], shaken, field, SensorChecks())[0]
+    assert plausible_mag(field[None], None, field, SensorChecks(), q_nb=[[1.0, 0.0, 0.0, 0.0]])[0]
+    tilted = [[np.cos(0.15), 0.0, np.sin(0.15), 0.0]]  # believed pitched by 17°: the dip looks wrong
+    assert not plausible_mag(field[None], None, field, SensorChecks(), q_nb=tilted)[0]
+
+
+def test_a_stream_is_trusted_again_only_once_it_has_settled():
+    t = np.arange(12) * 0.1
+    ok = np.array([1, 1, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1], bool)
+    present = np.ones(12, bool)
+    present[6] = ok[6] = False  # a missing sample neither fails nor restarts the clock
+    expected = [1, 1, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1]  # from 0.5 s after the failure at 0.2 s
+    assert settled(ok, present, t, 0.45).tolist() == [bool(e) for e in expected]
+    with pytest.raises(ValueError, match="present: expected a bool array of shape"):
+        settled(ok, present[:-1], t, 0.5)

@@ -5,7 +5,7 @@ import pytest
 
 from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.engine import Kernel
-from quadlib.imu import gyro_saturation_noise
+from quadlib.imu import untrusted_gyro_noise
 from quadlib.kernels import attitude as attitude_maths
 
 
@@ -18,7 +18,7 @@ def test_a_sensor_kernel_takes_h_of_x_or_h_of_x_and_its_context():
 
 
 def test_input_noise_is_none_until_the_gyro_clips():
-    noise = gyro_saturation_noise(2.0, [1.0, 1.0, 1.0, 0.0])
+    noise = untrusted_gyro_noise(2.0, [1.0, 1.0, 1.0, 0.0])
     assert noise(np.array([0.5, 0.0, 0.0]), 0.01) is None
     np.testing.assert_allclose(np.diag(noise(np.array([2.0, 0.0, 0.0]), 0.01)), [4e-4, 4e-4, 4e-4, 0.0])
 
