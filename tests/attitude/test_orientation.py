@@ -60,9 +60,16 @@ def test_a_translation_does_not_tilt_the_estimate():
     moving = BodyMotion(MOTION.t, MOTION.q_nb, MOTION.omega_b, f_b)
     noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(moving, noise, np.random.default_rng(6), field_n=FIELD)
-    errors = {tau: np.degrees(attitude_error(estimate_orientation(log, params=OrientationParams(accel_tau_s=tau)),
-                                             MOTION.q_nb))[MOTION.t > 10].max() for tau in (None, 3.0)}
-    assert errors[3.0] < 5.0 and errors[None] > 3 * errors[3.0]  # measured: 3.7° and 15.3°
+    def max_error(tau):
+        q = estimate_orientation(log, params=OrientationParams(accel_tau_s=tau))
+        return np.degrees(attitude_error(q, MOTION.q_nb))[MOTION.t > 10].max()
+
+    averaged = max_error(3.0)
+    # the raw accelerometer's down swings with the shaking, and the field's dip with it: the
+    # magnetometer fails its checks almost always, and the caller is told
+    with pytest.warns(UserWarning, match=r"^t\.mag: the heading update used \d+ of its 4001 readings"):
+        raw = max_error(None)
+    assert averaged < 5.0 and raw > 3 * averaged
 
 
 def test_a_magnet_near_the_sensor_does_not_turn_the_heading():
