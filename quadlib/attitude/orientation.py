@@ -280,8 +280,8 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
     of ``τ`` seconds may have turned it by more than a degree, ``α τ²/2``, the frame is lost and the
     average starts afresh at the next sample. Missing accelerometer samples hold the
     average. Every other sample counts, the violent ones too: the accelerations cancel only as a
-    whole, and an average that left out the largest of them would keep the rest (on BROAD's
-    fast-translation trial 16, leaving out the samples 50 m/s² off g₀ tilted it by up to 40°).
+    whole, and an average that left out the largest of them would keep the rest (chapter 16 shows
+    it on BROAD's fast-translation trial 16, with the samples 50 m/s² off g₀ left out).
 
     ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
     in time, a symmetric window around each sample that does not lag.
