@@ -221,7 +221,8 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
 
 def _measured_states(n: int, dim: int) -> tuple[Kernel, Kernel]:
     """``h(x) = x[:n]`` and ``H = [I_n 0]`` over ``dim`` states (or error states)."""
-    return Kernel("h", attitude_maths.state_slice, [0, n]), Kernel("H", attitude_maths.selection_H, [0, n, dim])
+    p = attitude_maths.linear_params(np.eye(n, dim))
+    return Kernel("h", attitude_maths.linear_map, p), Kernel("H", attitude_maths.linear_map_H, p)
 
 
 def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
@@ -294,7 +295,8 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                                             ("mag", noise.field_n, noise.r_mag))):
         sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"),
                               h=Kernel("h", attitude_maths.body_vector, ref),
-                              H=Kernel("H", attitude_maths.selection_H, [3 * block, 3, 6]), R=r * np.eye(3),
+                              H=Kernel("H", attitude_maths.linear_map_H,
+                                       attitude_maths.linear_params(np.eye(3, 6, 3 * block))), R=r * np.eye(3),
                               residual=Kernel("residual", kesten_maths.turn_between)))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
                         lambda log: (_accel(log, checks), _mag(log, noise, checks)), noise=noise)

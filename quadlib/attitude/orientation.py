@@ -202,8 +202,9 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
 def zero_rate_sensor(sigma_rad_s: float) -> Sensor:
     """The gyro at rest as a measurement of its own bias: ``h(x) = b`` [rad/s], σ per sample."""
     as_positive("sigma_rad_s", sigma_rad_s)
-    return Sensor(name="zero rate", measurement_names=GYRO_NAMES, h=Kernel("h", attitude_maths.state_slice, [4, 3]),
-                  H=Kernel("H", attitude_maths.selection_H, [4, 3, 7]), R=sigma_rad_s**2 * np.eye(3))
+    p = attitude_maths.linear_params(np.eye(3, 7, 4))  # h(x) = x[4:7]
+    return Sensor(name="zero rate", measurement_names=GYRO_NAMES, h=Kernel("h", attitude_maths.linear_map, p),
+                  H=Kernel("H", attitude_maths.linear_map_H, p), R=sigma_rad_s**2 * np.eye(3))
 
 
 def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, tau_s: float = 0.5) -> np.ndarray:

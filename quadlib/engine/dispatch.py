@@ -33,10 +33,10 @@ TABLES = {
     "add_jacobian": (att.attitude_bias_add_jacobian,),
     "normalize": (att.normalize_quaternion,),
     "normalize_jacobian": (att.normalize_quaternion_jacobian,),
-    "h": (att.body_vector, att.field_heading, att.state_slice, kesten.quaternion_rotvec, fixedwing.airspeed_accel,
-          fixedwing.unit_field, att.linear_map),
-    "H": (att.body_vector_H, att.heading_only_H, att.tilt_aware_heading_H, att.selection_H, fixedwing.airspeed_accel_H,
-          fixedwing.unit_field_H, att.linear_map_H),
+    "h": (att.body_vector, att.field_heading, att.linear_map, kesten.quaternion_rotvec, fixedwing.airspeed_accel,
+          fixedwing.unit_field),
+    "H": (att.body_vector_H, att.heading_only_H, att.tilt_aware_heading_H, att.linear_map_H, fixedwing.airspeed_accel_H,
+          fixedwing.unit_field_H),
     "residual": (att.wrapped_difference, kesten.nearest_orientation, kesten.same_sign_quaternion,
                  kesten.rotvec_turn, kesten.turn_between),
     "mean": (att.circular_mean,),
@@ -135,14 +135,12 @@ def measure(kind, x, c, p):
     if kind == 1:
         return att.field_heading(x, c, p)
     if kind == 2:
-        return att.state_slice(x, c, p)
+        return att.linear_map(x, c, p)
     if kind == 3:
         return kesten.quaternion_rotvec(x, c, p)
     if kind == 4:
         return fixedwing.airspeed_accel(x, c, p)
-    if kind == 5:
-        return fixedwing.unit_field(x, c, p)
-    return att.linear_map(x, c, p)
+    return fixedwing.unit_field(x, c, p)
 
 
 @njit(cache=True, inline="always")
@@ -155,12 +153,10 @@ def measurement_jacobian(kind, x, c, p):
     if kind == 2:
         return att.tilt_aware_heading_H(x, c, p)
     if kind == 3:
-        return att.selection_H(x, c, p)
+        return att.linear_map_H(x, c, p)
     if kind == 4:
         return fixedwing.airspeed_accel_H(x, c, p)
-    if kind == 5:
-        return fixedwing.unit_field_H(x, c, p)
-    return att.linear_map_H(x, c, p)
+    return fixedwing.unit_field_H(x, c, p)
 
 
 @njit(cache=True, inline="always")

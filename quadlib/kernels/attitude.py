@@ -6,8 +6,8 @@ State ``x = [q_nb (4), b (3)]`` (or the quaternion alone), input the gyro ``ω``
 :func:`~quadlib.attitude.bias_model.additive_attitude_bias_model` (the model) and
 :func:`~quadlib.attitude.orientation.gravity_sensor`, :func:`~quadlib.attitude.orientation.heading_sensor`
 and :func:`~quadlib.attitude.orientation.zero_rate_sensor` (the sensors), which bind these.
-Besides them, the pieces any model uses: an identity Jacobian, a selection of states, a linear
-measurement ``A x``, and their Jacobians.
+Besides them, the pieces any model uses: an identity Jacobian and a linear measurement ``A x``
+(a selection of states, say) with its Jacobian.
 """
 
 from __future__ import annotations
@@ -211,27 +211,16 @@ def tilt_aware_heading_H(x, c, p):
     return J
 
 
-@njit(cache=True)
-def state_slice(x, c, p):
-    """``h = x[a : a + k]``, ``p = [a, k]``."""
-    a = int(p[0])
-    return x[a:a + int(p[1])].copy()
-
-
-@njit(cache=True)
-def selection_H(x, c, p):
-    """``H`` that picks ``k`` states from ``a`` among ``n``, ``p = [a, k, n]``: ``[0 I_k 0]``."""
-    a, k = int(p[0]), int(p[1])
-    H = np.zeros((k, int(p[2])))
-    for i in range(k):
-        H[i, a + i] = 1.0
-    return H
+def linear_params(A) -> np.ndarray:
+    """The parameters of :func:`linear_map` and :func:`linear_map_H` for the matrix ``A``."""
+    A = np.asarray(A, dtype=float)
+    return np.r_[A.shape, A.ravel()]
 
 
 @njit(cache=True)
 def linear_map(x, c, p):
-    """``h = A x``, ``p = [m, n, A (m × n) row by row]``: states picked (GPS), turned in sign (the
-    barometer's height ``−p_d``) or combined."""
+    """``h = A x``, ``p = [m, n, A (m × n) row by row]`` (:func:`linear_params`): states picked (a
+    gyro's bias, GPS), turned in sign (the barometer's height ``−p_d``) or combined."""
     m, n = int(p[0]), int(p[1])
     out = np.zeros(m)
     for i in range(m):

@@ -78,7 +78,7 @@ _error_jacobian = Kernel("G", ins_maths.strapdown_error_jacobian)
 
 def _linear_sensor(A: np.ndarray) -> tuple[Kernel, Kernel]:
     """``h(x) = A x`` and ``H = A`` as kernels."""
-    p = np.r_[A.shape, A.ravel()]
+    p = attitude_maths.linear_params(A)
     return Kernel("h", attitude_maths.linear_map, p), Kernel("H", attitude_maths.linear_map_H, p)
 
 
