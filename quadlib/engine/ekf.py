@@ -259,10 +259,11 @@ def ekf_correct(m, sens, s, x, P, z, c, rows):
     every = rows.shape[0] == kz
     H, z_hat = _linearized(m, sens, s, x, c)
     y = residual_rows(sens.kinds[s, 2], z, z_hat, sens.params[s, 2], rows, every)
-    R = sens.R[s, :kz, :kz]
-    if not every:
-        H, R = np.ascontiguousarray(H[rows]), np.ascontiguousarray(R[rows][:, rows])
-    x1, P1, S, SI = _correct(m, x, P, H, y, R, sens.corrected[s])
+    if every:
+        x1, P1, S, SI = _correct(m, x, P, H, y, sens.R[s, :kz, :kz], sens.corrected[s])
+    else:
+        x1, P1, S, SI = _correct(m, x, P, np.ascontiguousarray(H[rows]), y,
+                                 np.ascontiguousarray(sens.R[s][rows][:, rows]), sens.corrected[s])
     return x1, P1, y, S, SI, True
 
 

@@ -108,7 +108,7 @@ def ukf_correct(m, sens, sig, s, x, P, z, c, rows):
         for a in rows:
             Z[i, a] = z_i[a]
     z_mean = mean(sens.kinds[s, 3], Z, sig.Wm, sens.params[s, 3])
-    S = np.ascontiguousarray(sens.R[s][rows][:, rows])
+    S = sens.R[s, :kz, :kz].copy() if every else np.ascontiguousarray(sens.R[s][rows][:, rows])
     Pxz = np.zeros((P.shape[0], r))
     for i in range(M):
         dz = residual_rows(r_kind, Z[i], z_mean, rp, rows, every)
