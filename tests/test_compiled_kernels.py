@@ -3,7 +3,7 @@ layout of the arrays it is given."""
 
 import numpy as np
 
-from quadlib.attitude.lowpass import calm_samples
+from quadlib.kernels.lowpass import calm_samples
 
 
 def test_a_view_or_a_read_only_log_reuses_the_loops_one_compiled_version():

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.compiled_kernels import attitude_bias_jacobian
 from quadlib.engine.kernel import Kernel
 from quadlib.imu import untrusted_gyro_noise
 from quadlib.kernels import attitude as k
+from quadlib.kernels.attitude import attitude_bias_jacobian
 from quadlib.model import Model
 from quadlib.validation import as_positive, as_vector
 

@@ -26,14 +26,11 @@ else the accelerometer's tilt.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 
-from quadlib.compiled_kernels import called_from_python
-from quadlib.geometry import kernels
 from quadlib.geometry.rotations import accel_tilt
+from quadlib.kernels.complementary import euler_rate_loop
+from quadlib.kernels.quaternion import exp_rotvec, from_euler, multiply, to_euler
 from quadlib.validation import as_finite_array, as_float_array, as_positive, as_vector
 
 __all__ = ["blend_weight", "euler_rate_complementary", "linear_complementary", "nonlinear_complementary"]
@@ -74,44 +71,12 @@ def linear_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np
     return out
 
 
-def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None, compiled: bool = False) -> np.ndarray:
+def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None) -> np.ndarray:
     """The blog's complementary filter: ``(N, 2)`` roll and pitch [rad], gyro rates turned into
-    Euler rates with the current estimate before integrating. ``compiled=True`` runs the same loop
-    compiled (:func:`_euler_rate_loop`, equal bit for bit, tested), for long logs."""
-    if not isinstance(compiled, bool):
-        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
+    Euler rates with the current estimate before integrating (compiled,
+    :func:`quadlib.kernels.complementary.euler_rate_loop`, for long logs)."""
     gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
-    if compiled:
-        return _euler_rate_loop(float(dt), gyro, tilt, float(start[0]), float(start[1]), weight)
-    roll, pitch = (float(a) for a in start)
-    out = [(roll, pitch)]
-    # in Python floats (the same IEEE arithmetic as numpy's scalars, without their per-element cost)
-    for (p, q, r), (tilt_roll, tilt_pitch), a in zip(gyro[:-1].tolist(), tilt[1:].tolist(), weight[1:].tolist(),
-                                                     strict=True):
-        sr, cr, tp = math.sin(roll), math.cos(roll), math.tan(pitch)
-        roll_rate = p + (sr * q + cr * r) * tp  # first two rows of euler_rate_matrix
-        pitch_rate = cr * q - sr * r
-        roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt_roll
-        pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt_pitch
-        out.append((roll, pitch))
-    return np.array(out).reshape(-1, 2)
-
-
-@called_from_python
-@njit(cache=True)
-def _euler_rate_loop(dt, gyro, tilt, roll, pitch, weight):
-    """:func:`euler_rate_complementary`'s loop, compiled: the same expressions in the same order."""
-    out = np.empty((tilt.shape[0], 2))
-    out[0, 0], out[0, 1] = roll, pitch
-    for k in range(1, tilt.shape[0]):
-        p, q, r, a = gyro[k - 1, 0], gyro[k - 1, 1], gyro[k - 1, 2], weight[k]
-        sr, cr, tp = math.sin(roll), math.cos(roll), math.tan(pitch)
-        roll_rate = p + (sr * q + cr * r) * tp
-        pitch_rate = cr * q - sr * r
-        roll = a * (roll + dt * roll_rate) + (1.0 - a) * tilt[k, 0]
-        pitch = a * (pitch + dt * pitch_rate) + (1.0 - a) * tilt[k, 1]
-        out[k, 0], out[k, 1] = roll, pitch
-    return out
+    return euler_rate_loop(float(dt), gyro, tilt, float(start[0]), float(start[1]), weight)
 
 
 def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initial=None) -> np.ndarray:
@@ -133,9 +98,9 @@ def nonlinear_complementary(dt: float, gyro, accel, tau: float, yaw=None, initia
     for k in range(1, len(tilt)):
         if yaw is not None:
             psi = yaw[k - 1]
-        # integrate_body_rate, quat_from_euler and quat_to_euler on one quaternion (geometry.kernels)
-        q_prev = kernels.from_euler(out[k - 1, 0], out[k - 1, 1], psi)
-        q_bar = kernels.multiply(q_prev, kernels.exp_rotvec(gyro[k - 1] * dt))
-        roll_bar, pitch_bar, psi = kernels.to_euler(q_bar)
+        # integrate_body_rate, quat_from_euler and quat_to_euler on one quaternion (kernels.quaternion)
+        q_prev = from_euler(out[k - 1, 0], out[k - 1, 1], psi)
+        q_bar = multiply(q_prev, exp_rotvec(gyro[k - 1] * dt))
+        roll_bar, pitch_bar, psi = to_euler(q_bar)
         out[k] = weight[k] * np.array([roll_bar, pitch_bar]) + (1.0 - weight[k]) * tilt[k]
     return out

@@ -24,7 +24,6 @@ import numpy as np
 
 from quadlib.attitude.bias_model import GYRO_NAMES, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled
-from quadlib.attitude.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.constants import GRAVITY_N
 from quadlib.engine.kernel import Kernel
 from quadlib.filters import ModelEKF
@@ -32,6 +31,7 @@ from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream, gyro_with_gaps, rates_to_interval_start
 from quadlib.kernels import attitude as attitude_maths
+from quadlib.kernels.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.model import Sensor
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter

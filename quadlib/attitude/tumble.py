@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.geometry import kernels
+from quadlib.kernels.quaternion import exp_rotvec, multiply
 from quadlib.sim.imu import BodyMotion, specific_force_at_rest
 from quadlib.validation import as_finite_number, as_positive, as_rng
 
@@ -54,5 +54,5 @@ def _at_rest(t, omega, q0, dt: float) -> BodyMotion:
     q = np.empty((t.size, 4))
     q[0] = q0
     for k in range(1, t.size):  # integrate_body_rate on one quaternion, unchecked (the same bits)
-        q[k] = kernels.multiply(q[k - 1], kernels.exp_rotvec(omega[k - 1] * dt))
+        q[k] = multiply(q[k - 1], exp_rotvec(omega[k - 1] * dt))
     return BodyMotion(t=t, q_nb=q, omega_b=omega, f_b=specific_force_at_rest(q))

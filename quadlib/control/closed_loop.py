@@ -25,10 +25,12 @@ from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.constants import G0
 from quadlib.control.controllers import AltitudePid, AttitudePid, PositionController, attitude_pid_gains
 from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
-from quadlib.control.vehicle import QuadrotorParams, constants, derivative_compiled, hover_state, step_compiled
+from quadlib.control.vehicle import QuadrotorParams, constants, hover_state
 from quadlib.filters import LinearKF, ModelEKF
-from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import as_unit_quaternions
+from quadlib.kernels.quaternion import conjugate, dcm, exp_rotvec, multiply, normalize, rotvec
+from quadlib.kernels.vehicle import derivative as vehicle_derivative
+from quadlib.kernels.vehicle import step as vehicle_step
 from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
 from quadlib.quad.flight import Flight3D
 from quadlib.validation import (
@@ -96,10 +98,10 @@ def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), h
         return th
 
     def reference(t):
-        q = kernels.exp_rotvec(theta(t))
+        q = exp_rotvec(theta(t))
         h = 1e-4
-        q_next = kernels.exp_rotvec(a * np.sin(w * (t + h)) + (theta(t) - a * np.sin(w * t)))
-        omega = kernels.rotvec(kernels.multiply(kernels.conjugate(q), q_next)) / h
+        q_next = exp_rotvec(a * np.sin(w * (t + h)) + (theta(t) - a * np.sin(w * t)))
+        omega = rotvec(multiply(conjugate(q), q_next)) / h
         return Reference(height, 0.0, q, omega)
 
     return reference
@@ -213,7 +215,7 @@ class _Filters:
             q_hat, omega_hat = x[:4], gyro - x[4:]
         else:
             q_hat, omega_hat = q_true, omega_true
-        self.altitude.predict([-float(kernels.dcm(q_hat)[2] @ accel)], dt)  # eq. (2.67), unchecked
+        self.altitude.predict([-float(dcm(q_hat)[2] @ accel)], dt)  # eq. (2.67), unchecked
         if baro is not None:
             self.altitude.update_sensor(self.baro, [baro])
         s = self.altitude.estimate
@@ -224,8 +226,8 @@ def _read_sensors(vehicle: tuple, sensors: LoopSensors, X, thrust, k: int, rng):
     """The IMU at control step ``k`` from the true state, the magnetometer and barometer on their
     own periods (None between samples). ``vehicle``: the constants of the vehicle's parameters."""
     n = sensors.noise
-    R = kernels.dcm(X[6:10])
-    f_b = R.T @ (derivative_compiled(X, thrust, *vehicle)[3:6] - np.array([0.0, 0.0, G0]))  # specific force
+    R = dcm(X[6:10])
+    f_b = R.T @ (vehicle_derivative(X, thrust, *vehicle)[3:6] - np.array([0.0, 0.0, G0]))  # specific force
     gyro = X[10:13] + np.asarray(n.gyro_bias_rad_s, dtype=float) + rng.standard_normal(3) * n.gyro_sigma_rad_s
     accel = f_b + rng.standard_normal(3) * n.accel_sigma_m_s2
     mag = R.T @ n.field_n + rng.standard_normal(3) * n.mag_sigma if k % sensors.every(sensors.mag_period_s) == 0 \
@@ -299,7 +301,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     if x0 is not None:
         if not X[6:10].any():
             raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[6:10], got {X[6:10].tolist()}")
-        X[6:10] = kernels.normalize(X[6:10])
+        X[6:10] = normalize(X[6:10])
     filters = None if estimator == "truth" else _Filters(sensors, X, attitude=estimator == "filters")
     out = {k: [] for k in ("state", "height_est", "climb_est", "q_est", "s_ref", "q_ref", "thrust_cmd")}
     thrust = X[13:17].copy()
@@ -318,7 +320,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
                            ("s_ref", ref.s), ("q_ref", ref.q_nb), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
         for _ in range(physics_steps):
-            X = step_compiled(X, thrust, dt / physics_steps, *vehicle)
+            X = vehicle_step(X, thrust, dt / physics_steps, *vehicle)
     state = np.array(out["state"])
     return ClosedLoopRun(t=np.arange(K) * dt, state=state, height=-state[:, 2], climb=-state[:, 5],
                          height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),
@@ -440,5 +442,5 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
         for key, value in (("state", X), ("pos_ref", path.pos[j]), ("pos_est", p_hat), ("vel_est", v_hat),
                            ("q_est", q_hat), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
-        X = step_compiled(X, thrust, dt, *vehicle)
+        X = vehicle_step(X, thrust, dt, *vehicle)
     return PathRun(t=np.arange(K) * dt, **{k: np.array(v) for k, v in out.items()})

@@ -23,8 +23,8 @@ import numpy as np
 from quadlib.constants import G0
 from quadlib.control.lqr import AltitudeGains, lqr_gain
 from quadlib.control.vehicle import MIXER, QuadrotorParams
-from quadlib.geometry import kernels
 from quadlib.geometry.quaternion import as_unit_quaternions
+from quadlib.kernels.quaternion import conjugate, from_dcm, multiply
 from quadlib.validation import as_finite_number, as_instance, as_matrix, as_positive, as_vector
 
 __all__ = ["AltitudePid", "AttitudePid", "PositionController", "attitude_error", "attitude_pid_gains",
@@ -53,7 +53,7 @@ def attitude_error(q_hat, q_ref) -> np.ndarray:
 
 
 def _error(q_hat, q_ref):
-    e = kernels.multiply(kernels.conjugate(q_ref), q_hat)
+    e = multiply(conjugate(q_ref), q_hat)
     e = e if e[0] >= 0.0 else -e  # the shorter of the two turns
     half_sin = float(np.linalg.norm(e[1:]))
     return e[1:] * (2.0 * np.arctan2(half_sin, e[0]) / half_sin) if half_sin > 1e-12 else 2.0 * e[1:]
@@ -143,7 +143,7 @@ def thrust_attitude(accel_n, yaw_rad: float, mass_kg: float) -> tuple[np.ndarray
     b2 = (b2[0] / n2, b2[1] / n2, b2[2] / n2)
     b1 = (b2[1] * b3[2] - b2[2] * b3[1], b2[2] * b3[0] - b2[0] * b3[2], b2[0] * b3[1] - b2[1] * b3[0])
     R = np.array([[b1[0], b2[0], b3[0]], [b1[1], b2[1], b3[1]], [b1[2], b2[2], b3[2]]])
-    return kernels.from_dcm(R), -fz
+    return from_dcm(R), -fz
 
 
 @dataclass

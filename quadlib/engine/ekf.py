@@ -25,7 +25,6 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import inverse, product
 from quadlib.engine.dispatch import (
     IDENTITY,
     add_jacobian,
@@ -41,6 +40,7 @@ from quadlib.engine.dispatch import (
     state_add,
     transition,
 )
+from quadlib.kernels.linalg import inverse, product
 
 __all__ = ["ModelArrays", "Samples", "SensorArrays", "SigmaArrays", "ekf_correct", "ekf_predict", "rts_pass"]
 

@@ -16,10 +16,10 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import product
 from quadlib.engine.dispatch import measure, residual, state_add
 from quadlib.engine.ekf import ADD, ekf_correct, ekf_predict
 from quadlib.engine.ukf import ukf_correct, ukf_predict
+from quadlib.kernels.linalg import product
 
 __all__ = ["filter_pass"]
 

@@ -20,9 +20,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import add_outer, inverse, positive_definite, product, upper_cholesky
 from quadlib.engine.dispatch import mean, measure, residual_x, state_add, transition
 from quadlib.engine.ekf import ADD, DIFF, G_, normalized, residual_rows, settle, step_noise
+from quadlib.kernels.linalg import add_outer, inverse, positive_definite, product, upper_cholesky
 
 __all__ = ["ukf_correct", "ukf_predict"]
 

@@ -219,7 +219,7 @@ def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1
         raise ValueError("log.mag: expected magnetometer samples (NaN where missing), got None")
     declination_rad = as_finite_number("declination_rad", declination_rad)
     dt = float(log.t[1] - log.t[0])
-    roll_pitch = euler_rate_complementary(dt, log.gyro, log.accel, as_positive("tau_s", tau_s), compiled=True)
+    roll_pitch = euler_rate_complementary(dt, log.gyro, log.accel, as_positive("tau_s", tau_s))
     present = ~np.isnan(log.mag).any(axis=1)
     if not present.any():
         raise ValueError("log.mag: expected at least one magnetometer sample, got none")

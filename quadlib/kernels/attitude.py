@@ -17,8 +17,18 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import attitude_bias_jacobian, product, saturated, wrap
-from quadlib.geometry.kernels import body_vector_jacobian, dcm, matrix, multiply, rate_matrix, rotvec, skew
+from quadlib.constants import SATURATED
+from quadlib.kernels.linalg import product, wrap
+from quadlib.kernels.quaternion import (
+    body_vector_jacobian,
+    dcm,
+    exp_rotvec,
+    matrix,
+    multiply,
+    rate_matrix,
+    rotvec,
+    skew,
+)
 
 __all__: list[str] = []  # bound by the model factories; see the module docstring
 
@@ -26,9 +36,32 @@ __all__: list[str] = []  # bound by the model factories; see the module docstrin
 # --- the model: g, G, Q, input noise, ⊞, ⊟, ∂⊞/∂δ, normalize --------------------------------
 
 @njit(cache=True)
+def attitude_bias_jacobian(phi, dt):
+    """``∂δx⁺/∂δx`` over ``[δθ, δb]`` of one gyro step ``φ = (ω − b) Δt``
+    (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
+    theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
+    K = skew(phi)
+    if theta > 1e-6:
+        a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
+    else:
+        a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
+    G = np.eye(6)
+    G[:3, :3] = dcm(exp_rotvec(phi)).T
+    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * product(K, K))
+    return G
+
+
+@njit(cache=True)
+def saturated(u, gyro_range):
+    """The gyro sample ``u`` is at its full scale (:func:`~quadlib.imu.saturated_step_variance`);
+    ``gyro_range ≤ 0``: a gyro that never saturates."""
+    return gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range
+
+
+@njit(cache=True)
 def turn_into(out, q, vx, vy, vz):
-    """``out[:4] = q ⊗ exp(v)``, as :func:`~quadlib.compiled_kernels.multiply` of
-    :func:`~quadlib.compiled_kernels.exp_rotvec` computes it, without their two arrays."""
+    """``out[:4] = q ⊗ exp(v)``, as :func:`~quadlib.kernels.quaternion.multiply` of
+    :func:`~quadlib.kernels.quaternion.exp_rotvec` computes it, without their two arrays."""
     angle = math.sqrt(vx * vx + vy * vy + vz * vz)
     half_sinc = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
     e0, e1, e2, e3 = math.cos(0.5 * angle), half_sinc * vx, half_sinc * vy, half_sinc * vz

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.geometry.kernels import body_vector_jacobian, dcm
+from quadlib.kernels.quaternion import body_vector_jacobian, dcm
 
 __all__: list[str] = []  # bound by quadlib.fixedwing.model
 

@@ -13,9 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import attitude_bias_jacobian
-from quadlib.geometry.kernels import dcm
-from quadlib.kernels.attitude import turn_into
+from quadlib.kernels.attitude import attitude_bias_jacobian, turn_into
+from quadlib.kernels.quaternion import dcm
 
 __all__: list[str] = []  # bound by the factories of quadlib.nav.ins
 

@@ -12,8 +12,8 @@ import math
 import numpy as np
 from numba import njit
 
-from quadlib.geometry.kernels import exp_rotvec, multiply, rotvec
 from quadlib.kernels.attitude import turn_into
+from quadlib.kernels.quaternion import exp_rotvec, multiply, rotvec
 
 __all__: list[str] = []  # bound by the factories of quadlib.attitude.kesten
 

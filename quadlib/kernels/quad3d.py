@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import wrap
-from quadlib.geometry.kernels import euler_dcm
+from quadlib.kernels.linalg import wrap
+from quadlib.kernels.quaternion import euler_dcm
 
 __all__: list[str] = []  # bound by quadlib.quad.quad3d
 

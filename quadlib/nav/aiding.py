@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.geometry import kernels
+from quadlib.kernels.quaternion import dcm, rate_matrix
 from quadlib.model import Sensor
 from quadlib.perception.map_matching import MapMatch
 from quadlib.samples import Measurements
@@ -32,7 +32,7 @@ _CONTEXT = ("yaw [rad]",) + tuple(f"W{i}{j}" for i in range(3) for j in range(3)
 
 
 def _pose(x, c):
-    R = kernels.dcm(x[:4])
+    R = dcm(x[:4])
     yaw = np.arctan2(R[1, 0], R[0, 0])
     yaw = c[0] + (yaw - c[0] + np.pi) % (2.0 * np.pi) - np.pi
     return c[1:].reshape(3, 3) @ np.array([x[7], x[8], yaw])
@@ -41,7 +41,7 @@ def _pose(x, c):
 def _pose_jacobian(x, c):
     J = np.zeros((3, 16))
     J[0, 7] = J[1, 8] = 1.0
-    J[2, :4] = kernels.dcm(x[:4])[2] @ (2.0 * kernels.rate_matrix(x[:4]).T)
+    J[2, :4] = dcm(x[:4])[2] @ (2.0 * rate_matrix(x[:4]).T)
     return c[1:].reshape(3, 3) @ J
 
 

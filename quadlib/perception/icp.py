@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from quadlib.geometry import kernels
+from quadlib.kernels.quaternion import skew
 from quadlib.validation import as_finite_array, as_positive, as_probability
 
 __all__ = ["IcpResult", "best_rigid_transform", "convergence_basin", "estimate_normals", "icp", "point_to_plane_step"]
@@ -79,7 +79,7 @@ def _rotation(theta: np.ndarray) -> np.ndarray:
         c, s = np.cos(theta[0]), np.sin(theta[0])
         return np.array([[c, -s], [s, c]])
     angle = float(np.linalg.norm(theta))
-    K = kernels.skew(theta)
+    K = skew(theta)
     if angle < 1e-12:
         return np.eye(3) + K
     return np.eye(3) + np.sin(angle) / angle * K + (1.0 - np.cos(angle)) / angle**2 * K @ K
@@ -127,7 +127,7 @@ def _information(lever, normals, residuals) -> np.ndarray:
         else:
             J = np.zeros((3 * len(lever), 6))
             for i, pm in enumerate(lever):
-                J[3 * i:3 * i + 3, :3] = -kernels.skew(pm)
+                J[3 * i:3 * i + 3, :3] = -skew(pm)
                 J[3 * i:3 * i + 3, 3:] = np.eye(3)
     else:
         J = np.hstack([_cross_n(lever, normals), normals])

@@ -12,9 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from quadlib.compiled_kernels import called_from_python
+from quadlib.kernels.lidar import first_hits
 from quadlib.validation import as_finite_array, as_positive, as_rng, as_vector
 
 __all__ = ["LidarScan", "cast_rays", "corridor_map", "lidar_scan", "room_map"]
@@ -63,31 +62,7 @@ def cast_rays(origins: np.ndarray, headings: np.ndarray, bearings: np.ndarray, s
     """Ranges ``(N, B)`` to the first wall along each bearing from each of ``N`` poses (``inf`` where a
     beam meets none). Unchecked: the scan simulator and the particle filter call it with checked arrays."""
     directions = np.stack([np.cos(headings[:, None] + bearings), np.sin(headings[:, None] + bearings)], axis=-1)
-    return _first_hits(origins, directions, segments)
-
-
-@called_from_python
-@njit(cache=True)
-def _first_hits(origins, directions, segments):
-    """For every pose ``n`` and beam ``b``, the nearest wall hit: ``p + r d = a + s e`` solved for
-    ``r, s`` by Cramer's rule, a hit where ``r > 0`` and ``0 ≤ s ≤ 1``. A compiled loop: as numpy
-    broadcasting over (poses, beams, walls) it made a dozen temporary arrays and cost 4–6 × more."""
-    N, B = directions.shape[0], directions.shape[1]
-    ranges = np.full((N, B), np.inf)
-    for n in range(N):
-        for b in range(B):
-            dx, dy = directions[n, b, 0], directions[n, b, 1]
-            for k in range(segments.shape[0]):
-                ax, ay = segments[k, 0, 0], segments[k, 0, 1]
-                ex, ey = segments[k, 1, 0] - ax, segments[k, 1, 1] - ay
-                rx, ry = ax - origins[n, 0], ay - origins[n, 1]
-                det = -dx * ey + dy * ex
-                if abs(det) > 1e-12:  # not parallel
-                    r = (-rx * ey + ry * ex) / det
-                    s = (dx * ry - dy * rx) / det
-                    if r > 0.0 and 0.0 <= s <= 1.0 and r < ranges[n, b]:
-                        ranges[n, b] = r
-    return ranges
+    return first_hits(origins, directions, segments)
 
 
 def lidar_scan(pose, segments, rng, *, beams: int = 360, max_range_m: float = 20.0, range_sigma_m: float = 0.01,

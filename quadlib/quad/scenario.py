@@ -73,7 +73,7 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     imu = imu_samples(flight, noise, rng)
     gps, mag = gps_samples(flight, noise, rng), mag_yaw_samples(flight, noise, rng)
     baro = baro_samples(flight, noise, rng)
-    cf = euler_rate_complementary(flight.dt, imu.gyro, imu.accel, tau, compiled=True)
+    cf = euler_rate_complementary(flight.dt, imu.gyro, imu.accel, tau)
     attitude = flight.euler[:, :2] if true_attitude else cf
     u = imu_inputs(flight.dt, imu.accel, imu.gyro, attitude, decimate=decimate)
     k = np.arange(u.shape[0]) * decimate

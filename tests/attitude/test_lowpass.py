@@ -2,11 +2,11 @@
 
 import numpy as np
 
-from quadlib.attitude.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.attitude.orientation import OrientationParams, inertial_lowpass, rest_mask
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.imu import ImuNoise
+from quadlib.kernels.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.sim.imu import imu_samples
 
 

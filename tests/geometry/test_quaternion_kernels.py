@@ -3,7 +3,7 @@
 import numpy as np
 
 from quadlib.attitude.bias_model import quaternion_rate_matrix
-from quadlib.geometry import euler_to_dcm, kernels
+from quadlib.geometry import euler_to_dcm
 from quadlib.geometry.quaternion import (
     quat_conjugate,
     quat_from_dcm,
@@ -16,6 +16,7 @@ from quadlib.geometry.quaternion import (
     quat_to_rotvec,
     vector_jacobian,
 )
+from quadlib.kernels import quaternion as kernels
 
 RNG = np.random.default_rng(11)
 CASES = [(RNG.normal(size=4), RNG.normal(size=4), RNG.normal(size=3) * s) for s in (1e-10, 1e-4, 0.3, 3.0) * 5]

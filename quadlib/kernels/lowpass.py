@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.compiled_kernels import called_from_python
-from quadlib.geometry.kernels import dcm, exp_rotvec, multiply
+from quadlib.kernels import called_from_python
+from quadlib.kernels.quaternion import dcm, exp_rotvec, multiply
 
 __all__: list[str] = []  # internal: orientation.py is the interface
 
