@@ -322,8 +322,8 @@ def test_a_reset_on_a_sensor_blind_to_one_direction_keeps_the_covariance_sane():
     """Gravity cannot see a turn about itself: the reset must not invert the differences' noise in that
     direction (with numpy's default cutoff P grew to ~1e20 from this attitude)."""
     from quadlib.attitude.bias_model import attitude_bias_model
-    from quadlib.attitude.orientation import gravity_sensor
     from quadlib.geometry.quaternion import quat_from_euler
+    from quadlib.sensors import gravity_sensor
 
     q0 = quat_from_euler(0.3, 0.2, 1.1)
     f = ModelEKF(attitude_bias_model(0.005, 1e-4), np.r_[q0, 0, 0, 0], np.diag([1e-4] * 3 + [1e-6] * 3), 0.01)

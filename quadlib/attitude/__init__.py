@@ -1,5 +1,7 @@
 """Attitude and altitude estimation for a quadrotor: complementary filters, Kesten's filters, the altitude filter."""
 
+from quadlib.sensors import GYRO_NAMES, gravity_sensor, heading_sensor, zero_rate_sensor
+
 from .altitude import (
     SEA_LEVEL_HPA,
     altitude_from_pressure,
@@ -9,7 +11,6 @@ from .altitude import (
     vertical_specific_force,
 )
 from .bias_model import (
-    GYRO_NAMES,
     STATE_NAMES,
     additive_attitude_bias_model,
     as_attitude_state,
@@ -23,15 +24,7 @@ from .bias_model import (
 from .checks import SensorChecks, plausible_accel, plausible_mag
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
-from .orientation import (
-    OrientationParams,
-    estimate_orientation,
-    gravity_sensor,
-    heading_sensor,
-    orientation_run,
-    rest_mask,
-    zero_rate_sensor,
-)
+from .orientation import OrientationParams, estimate_orientation, orientation_run, rest_mask
 from .tumble import random_rotation, with_spin
 
 __all__ = [

@@ -47,7 +47,7 @@ import numpy as np
 
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag
 from quadlib.constants import GRAVITY_N, earth_field_ned
-from quadlib.engine.kernel import Kernel
+from quadlib.engine.kernel import Kernel, linear_kernels
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import (
     quat_from_rotvec,
@@ -219,12 +219,6 @@ def _rotation_error_model(noise: AttitudeNoise, blocks: int) -> Model:
                  name="gyro-driven rotation error")
 
 
-def _measured_states(n: int, dim: int) -> tuple[Kernel, Kernel]:
-    """``h(x) = x[:n]`` and ``H = [I_n 0]`` over ``dim`` states (or error states)."""
-    p = attitude_maths.linear_params(np.eye(n, dim))
-    return Kernel("h", attitude_maths.linear_map, p), Kernel("H", attitude_maths.linear_map_H, p)
-
-
 def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
           checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated orientation-vector Kalman filter: state θ, H = I₃, Φ = I₃ (eqs. 2.26–2.35)."""
@@ -233,7 +227,7 @@ def tovkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                   g=Kernel("g", kesten_maths.orientation_vector_step), G=_identity(3),
                   Q=_gyro_noise(noise, 3, 1.0), input_noise=untrusted_gyro_noise(noise.gyro_range_rad_s, [1.0] * 3),
                   name="orientation vector")
-    h, H = _measured_states(3, 3)
+    h, H = linear_kernels(np.eye(3, 3))
     # the residual: z, or the same attitude turned the other way round, whichever is nearer x
     sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"), h=h, H=H,
                     R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
@@ -246,7 +240,7 @@ def tqkf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
          checks: SensorChecks = SensorChecks()) -> KestenFilter:
     """Truncated quaternion Kalman filter: state q, H = I₄, Φ = I₄ (eqs. 2.36–2.43)."""
     s0 = _checked(noise, sigma0_rad, checks)
-    h, H = _measured_states(4, 4)
+    h, H = linear_kernels(np.eye(4, 4))
     sensor = Sensor(name="attitude", measurement_names=("w", "x", "y", "z"), h=h, H=H,
                     R=0.25 * 0.5 * (noise.r_accel + noise.r_mag) * np.eye(4),
                     residual=Kernel("residual", kesten_maths.same_sign_quaternion))
@@ -260,7 +254,7 @@ def tqf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
     attitude (eqs. 2.44–2.48), as an error-state EKF with covariance ``p I₃``."""
     s0 = _checked(noise, sigma0_rad, checks)
     sensor = Sensor(name="attitude", measurement_names=("theta_x", "theta_y", "theta_z"),
-                    h=Kernel("h", kesten_maths.quaternion_rotvec), H=_measured_states(3, 3)[1],
+                    h=Kernel("h", kesten_maths.quaternion_rotvec), H=linear_kernels(np.eye(3, 3))[1],
                     R=0.5 * (noise.r_accel + noise.r_mag) * np.eye(3),
                     residual=Kernel("residual", kesten_maths.rotvec_turn))
     return KestenFilter("TQF", _rotation_error_model(noise, 1), s0**2 * np.eye(3), (sensor,),
@@ -295,8 +289,7 @@ def qf(noise: AttitudeNoise = AttitudeNoise(), sigma0_rad: float = 1.0,
                                             ("mag", noise.field_n, noise.r_mag))):
         sensors.append(Sensor(name=name, measurement_names=("x", "y", "z"),
                               h=Kernel("h", attitude_maths.body_vector, ref),
-                              H=Kernel("H", attitude_maths.linear_map_H,
-                                       attitude_maths.linear_params(np.eye(3, 6, 3 * block))), R=r * np.eye(3),
+                              H=linear_kernels(np.eye(3, 6, 3 * block))[1], R=r * np.eye(3),
                               residual=Kernel("residual", kesten_maths.turn_between)))
     return KestenFilter("QF", _rotation_error_model(noise, 2), s0**2 * np.eye(6), tuple(sensors),
                         lambda log: (_accel(log, checks), _mag(log, noise, checks)), noise=noise)

@@ -2,7 +2,7 @@
 a rigid-body quadrotor with motor lag and limits, and a closed-loop simulator that runs the
 controllers on the true state or on the project's filters."""
 
-from .closed_loop import ClosedLoopRun, LoopSensors, PathRun, Reference, altitude_step, attitude_wave, fly, fly_path
+from .closed_loop import ClosedLoopRun, LoopSensors, PathRun, fly, fly_path
 from .controllers import (
     AltitudePid,
     AttitudePid,
@@ -14,6 +14,7 @@ from .controllers import (
 )
 from .lqr import AltitudeGains, altitude_model_matrices, altitude_pid_gains, lqr_gain, riccati_gain
 from .planar import PlanarRun, hold_distance
+from .references import Reference, altitude_step, attitude_wave
 from .vehicle import MIXER, QuadrotorParams, hover_state, motor_torques, quadrotor_derivative, quadrotor_step
 
 __all__ = ["MIXER", "AltitudeGains", "AltitudePid", "AttitudePid", "ClosedLoopRun", "LoopSensors", "PathRun",

@@ -21,21 +21,20 @@ import numpy as np
 from quadlib.attitude.altitude import altitude_model, baro_altitude_sensor
 from quadlib.attitude.bias_model import attitude_bias_model
 from quadlib.attitude.kesten import AttitudeNoise
-from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.constants import G0
 from quadlib.control.controllers import AltitudePid, AttitudePid, PositionController, attitude_pid_gains
 from quadlib.control.lqr import AltitudeGains, altitude_pid_gains
+from quadlib.control.references import Reference
 from quadlib.control.vehicle import QuadrotorParams, constants, hover_state
 from quadlib.filters import LinearKF, ModelEKF
-from quadlib.geometry.quaternion import as_unit_quaternions
-from quadlib.kernels.quaternion import conjugate, dcm, exp_rotvec, multiply, normalize, rotvec
+from quadlib.kernels.quaternion import dcm, normalize
 from quadlib.kernels.vehicle import derivative as vehicle_derivative
 from quadlib.kernels.vehicle import step as vehicle_step
 from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
 from quadlib.quad.flight import Flight3D
+from quadlib.sensors import gravity_sensor, heading_sensor
 from quadlib.validation import (
     as_finite_array,
-    as_finite_number,
     as_instance,
     as_positive,
     as_rng,
@@ -43,68 +42,7 @@ from quadlib.validation import (
     check_fields,
 )
 
-__all__ = ["ClosedLoopRun", "LoopSensors", "PathRun", "Reference", "altitude_step", "attitude_wave", "fly", "fly_path"]
-
-
-@dataclass(frozen=True)
-class Reference:
-    """What the controllers are asked to follow at time ``t``: height ``s`` [m, up], climb rate
-    ``v`` [m/s], attitude ``q_nb`` and body rates ``ω`` [rad/s]."""
-
-    s: float
-    v: float
-    q_nb: np.ndarray
-    omega: np.ndarray
-
-    def __post_init__(self):
-        for name in ("s", "v"):
-            object.__setattr__(self, name, as_finite_number(f"Reference.{name}", getattr(self, name)))
-        q = as_unit_quaternions("Reference.q_nb", self.q_nb)
-        if q.shape != (4,):
-            raise ValueError(f"Reference.q_nb: expected one quaternion of shape (4,), got {q.shape}")
-        object.__setattr__(self, "q_nb", q)
-        object.__setattr__(self, "omega", as_vector("Reference.omega", self.omega, 3))
-
-
-def altitude_step(t_step_s: float = 5.0, height_m: float = 2.0, start_m: float = 1.0) -> Callable[[float], Reference]:
-    """Kesten's Fig. 5.3 reference: hover at ``start_m``, then a step of ``height_m`` at ``t_step_s``,
-    level and facing north throughout."""
-    t_step_s, height_m, start_m = (as_finite_number(n, v) for n, v in
-                                   (("t_step_s", t_step_s), ("height_m", height_m), ("start_m", start_m)))
-    level, still = np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3)
-    before, after = Reference(start_m, 0.0, level, still), Reference(start_m + height_m, 0.0, level, still)
-    return lambda t: after if t >= t_step_s else before
-
-
-def attitude_wave(amplitudes_rad=(0.15, 0.1, 0.3), periods_s=(8.0, 5.0, 12.0), height_m: float = 1.0,
-                  step_at_s: float | None = None, step_rad: float = 0.1) -> Callable[[float], Reference]:
-    """A reference attitude for Kesten's Fig. 5.4: each orientation-vector component a sine
-    ``θᵢ = aᵢ sin(2π t / Tᵢ)`` (``q = exp(θ)``), with its body rates, at a constant height; with
-    ``step_at_s``, the roll component steps by ``step_rad`` there (the rate reference does not)."""
-    a, periods = as_finite_array("amplitudes_rad", amplitudes_rad), as_finite_array("periods_s", periods_s)
-    if a.shape != (3,) or periods.shape != (3,) or not np.all(periods > 0):
-        raise ValueError(f"amplitudes_rad, periods_s: expected three finite amplitudes and three positive periods, "
-                         f"got {amplitudes_rad!r}, {periods_s!r}")
-    w = 2.0 * np.pi / periods
-    height = as_positive("height_m", height_m)
-    step_rad = as_finite_number("step_rad", step_rad)
-    if step_at_s is not None:
-        step_at_s = as_finite_number("step_at_s", step_at_s)
-
-    def theta(t):
-        th = a * np.sin(w * t)
-        if step_at_s is not None and t >= step_at_s:
-            th = th + np.array([step_rad, 0.0, 0.0])
-        return th
-
-    def reference(t):
-        q = exp_rotvec(theta(t))
-        h = 1e-4
-        q_next = exp_rotvec(a * np.sin(w * (t + h)) + (theta(t) - a * np.sin(w * t)))
-        omega = rotvec(multiply(conjugate(q), q_next)) / h
-        return Reference(height, 0.0, q, omega)
-
-    return reference
+__all__ = ["ClosedLoopRun", "LoopSensors", "PathRun", "fly", "fly_path"]
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MODEL_ROLES", "SENSOR_ROLES", "Kernel"]
+from quadlib.kernels.attitude import linear_map, linear_map_H
+
+__all__ = ["MODEL_ROLES", "SENSOR_ROLES", "Kernel", "linear_kernels"]
 
 MODEL_ROLES = ("g", "G", "Q", "input_noise", "state_add", "residual_x", "add_jacobian", "normalize",
                "normalize_jacobian")
@@ -88,3 +90,11 @@ class Kernel:
 
     def __repr__(self) -> str:
         return f"Kernel({self.role!r}, {self.function.__name__}, params={self.params.tolist()})"
+
+
+def linear_kernels(A) -> tuple[Kernel, Kernel]:
+    """A linear sensor's ``h(x) = A x`` and ``H = A`` as kernels: states picked (GPS, a gyro's bias),
+    turned in sign (the barometer's height ``−p_d``) or combined."""
+    A = np.asarray(A, dtype=float)
+    p = np.r_[A.shape, A.ravel()]
+    return Kernel("h", linear_map, p), Kernel("H", linear_map_H, p)

@@ -33,18 +33,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.attitude.bias_model import (
-    GYRO_NAMES,
-    additive_attitude_bias_model,
-    as_attitude_state,
-    quaternion_rate_matrix,
-)
+from quadlib.attitude.bias_model import additive_attitude_bias_model, as_attitude_state, quaternion_rate_matrix
 from quadlib.constants import G0, earth_field_ned
 from quadlib.engine.kernel import Kernel
 from quadlib.geometry.quaternion import as_unit_quaternions
 from quadlib.imu import ImuNoise
 from quadlib.kernels import fixedwing as fw
 from quadlib.model import Model, Sensor
+from quadlib.sensors import GYRO_NAMES
 from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
 
 __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",

@@ -4,8 +4,8 @@ State ``x = [q_nb (4), b (3)]`` (or the quaternion alone), input the gyro ``ω``
 ``δx = [δθ, δb]`` with ``q ⊗ exp(δθ)``. The readable descriptions, with their equations, are
 :func:`~quadlib.attitude.bias_model.attitude_bias_model` and
 :func:`~quadlib.attitude.bias_model.additive_attitude_bias_model` (the model) and
-:func:`~quadlib.attitude.orientation.gravity_sensor`, :func:`~quadlib.attitude.orientation.heading_sensor`
-and :func:`~quadlib.attitude.orientation.zero_rate_sensor` (the sensors), which bind these.
+:func:`~quadlib.sensors.gravity_sensor`, :func:`~quadlib.sensors.heading_sensor` and
+:func:`~quadlib.sensors.zero_rate_sensor` (the sensors), which bind these.
 Besides them, the pieces any model uses: an identity Jacobian and a linear measurement ``A x``
 (a selection of states, say) with its Jacobian.
 """
@@ -244,16 +244,10 @@ def tilt_aware_heading_H(x, c, p):
     return J
 
 
-def linear_params(A) -> np.ndarray:
-    """The parameters of :func:`linear_map` and :func:`linear_map_H` for the matrix ``A``."""
-    A = np.asarray(A, dtype=float)
-    return np.r_[A.shape, A.ravel()]
-
-
 @njit(cache=True)
 def linear_map(x, c, p):
-    """``h = A x``, ``p = [m, n, A (m × n) row by row]`` (:func:`linear_params`): states picked (a
-    gyro's bias, GPS), turned in sign (the barometer's height ``−p_d``) or combined."""
+    """``h = A x``, ``p = [m, n, A (m × n) row by row]``, as
+    :func:`~quadlib.engine.kernel.linear_kernels` binds it."""
     m, n = int(p[0]), int(p[1])
     out = np.zeros(m)
     for i in range(m):

@@ -39,9 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.attitude.checks import SensorChecks, plausible_mag
-from quadlib.attitude.orientation import heading_sensor
 from quadlib.constants import GRAVITY_N
-from quadlib.engine.kernel import Kernel
+from quadlib.engine.kernel import Kernel, linear_kernels
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
@@ -52,6 +51,7 @@ from quadlib.model import Model, Sensor
 from quadlib.plausibility import check_gps_metres, check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples
+from quadlib.sensors import heading_sensor
 from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
 
 __all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
@@ -74,12 +74,6 @@ _add_jacobian = Kernel("add_jacobian", attitude_maths.attitude_bias_add_jacobian
 _normalized = Kernel("normalize", attitude_maths.normalize_quaternion)
 _step = Kernel("g", ins_maths.strapdown_step, GRAVITY_N)
 _error_jacobian = Kernel("G", ins_maths.strapdown_error_jacobian)
-
-
-def _linear_sensor(A: np.ndarray) -> tuple[Kernel, Kernel]:
-    """``h(x) = A x`` and ``H = A`` as kernels."""
-    p = attitude_maths.linear_params(A)
-    return Kernel("h", attitude_maths.linear_map, p), Kernel("H", attitude_maths.linear_map_H, p)
 
 
 def ins_model(gyro_sigma_rad_s: float, accel_sigma_m_s2: float, gyro_bias_walk_rad_s_sqrt_s: float,
@@ -119,7 +113,7 @@ def ins_gps_sensor(pos_sigma_m, vel_sigma_m_s, use_height: bool = True, reset_af
     rows = [0, 1, 2, 3, 4, 5] if use_height else [0, 1, 3, 4, 5]
     A = np.zeros((len(rows), 16))
     A[np.arange(len(rows)), np.r_[P, V][rows]] = 1.0  # each component measures one state
-    h, H = _linear_sensor(A)
+    h, H = linear_kernels(A)
     names = np.array(["pn [m]", "pe [m]", "pd [m]", "vn [m/s]", "ve [m/s]", "vd [m/s]"])[rows]
     n_pos = 3 if use_height else 2
     return Sensor(name="gps", measurement_names=tuple(names), h=h, H=H,
@@ -131,7 +125,7 @@ def ins_baro_sensor(sigma_m: float) -> Sensor:
     """Barometric height above the origin [m]: ``h(x) = −p_d``."""
     A = np.zeros((1, 16))
     A[0, 9] = -1.0
-    h, H = _linear_sensor(A)
+    h, H = linear_kernels(A)
     return Sensor(name="baro", measurement_names=("height [m]",), h=h, H=H,
                   R=np.full((1, 1), as_positive("sigma_m", sigma_m) ** 2))
 

@@ -24,6 +24,7 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.engine import Kernel
+from quadlib.engine.kernel import linear_kernels
 from quadlib.kernels import attitude as att
 from quadlib.kernels import quad3d as k
 from quadlib.model import Model, Sensor
@@ -80,16 +81,16 @@ def quad3d_gps_sensor(pos_sigma_m=(0.7, 0.7, 2.0), vel_sigma_m_s=(0.1, 0.1, 0.3)
     sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):
         raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
+    h, H = linear_kernels(np.eye(6, 7))  # h(x) = [p, v]
     return Sensor(name="gps", measurement_names=("x [m]", "y [m]", "z [m]", "vx [m/s]", "vy [m/s]", "vz [m/s]"),
-                  h=Kernel("h", att.state_slice, [0, 6]), H=Kernel("H", att.selection_H, [0, 6, 7]),
-                  R=np.diag(sigma**2), rate_hz=rate_hz,
+                  h=h, H=H, R=np.diag(sigma**2), rate_hz=rate_hz,
                   groups=((0, 1, 2), (3, 4, 5)), reset_after_s=reset_after_s)
 
 
 def quad3d_mag_sensor(sigma_rad: float = 0.1, rate_hz: float | None = 100.0) -> Sensor:
     """Magnetometer heading (eqs. 56–58): ``h(x) = ψ``; innovations wrapped to (−π, π]."""
-    return Sensor(name="mag", measurement_names=("yaw [rad]",), h=Kernel("h", att.state_slice, [YAW, 1]),
-                  H=Kernel("H", att.selection_H, [YAW, 1, 7]),
+    h, H = linear_kernels(np.eye(1, 7, YAW))  # h(x) = ψ
+    return Sensor(name="mag", measurement_names=("yaw [rad]",), h=h, H=H,
                   R=np.full((1, 1), as_positive("sigma_rad", sigma_rad) ** 2),
                   residual=Kernel("residual", att.wrapped_difference), mean=Kernel("mean", att.circular_mean, [0]),
                   rate_hz=rate_hz)

@@ -140,8 +140,8 @@ def test_bad_arguments_are_named():
 
 def test_the_heading_update_turns_about_the_vertical_only():
     from quadlib.attitude.bias_model import attitude_bias_model
-    from quadlib.attitude.orientation import heading_sensor
     from quadlib.geometry.quaternion import quat_normalize
+    from quadlib.sensors import heading_sensor
 
     model, sensor, rng = attitude_bias_model(0.005, 1e-4), heading_sensor(0.1), np.random.default_rng(1)
     for _ in range(20):
@@ -198,8 +198,8 @@ def test_a_gyro_bias_is_learnt_at_rest_within_seconds():
 def test_the_magnetometer_turns_the_heading_and_never_the_bias():
     from quadlib import ModelEKF
     from quadlib.attitude.bias_model import attitude_bias_model
-    from quadlib.attitude.orientation import heading_sensor
     from quadlib.geometry.quaternion import quat_from_euler
+    from quadlib.sensors import heading_sensor
 
     x0 = np.r_[quat_from_euler(0.1, -0.2, 0.3), 0.01, -0.02, 0.005]
     P0 = np.full((6, 6), 1e-5) + np.diag([1e-2] * 3 + [1e-4] * 3)  # attitude and bias correlated
@@ -211,6 +211,6 @@ def test_the_magnetometer_turns_the_heading_and_never_the_bias():
 
 
 def test_the_offline_pass_uses_the_ordinary_heading_update():
-    from quadlib.attitude.orientation import heading_sensor
+    from quadlib.sensors import heading_sensor
 
     assert heading_sensor(0.1).uncorrected == (3, 4, 5) and heading_sensor(0.1, corrects_bias=True).uncorrected == ()

@@ -6,13 +6,13 @@ import pytest
 
 from quadlib.attitude.bias_model import additive_attitude_bias_model, attitude_bias_model
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise
-from quadlib.attitude.orientation import gravity_sensor, heading_sensor, zero_rate_sensor
 from quadlib.engine.dispatch import SWITCHES, TABLES, kind_of
 from quadlib.engine.kernel import MODEL_ROLES, SENSOR_ROLES, Kernel
 from quadlib.fixedwing import fixedwing_accel_sensor, fixedwing_mag_sensor
 from quadlib.geometry.quaternion import quat_from_rotvec
 from quadlib.nav import InsParams, ins_baro_sensor, ins_gps_sensor
 from quadlib.quad import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
+from quadlib.sensors import gravity_sensor, heading_sensor, zero_rate_sensor
 
 RANGE = 2.0
 NOISE = AttitudeNoise(gyro_range_rad_s=RANGE)

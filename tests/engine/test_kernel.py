@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from quadlib.attitude.orientation import gravity_sensor, heading_sensor
 from quadlib.engine import Kernel
 from quadlib.imu import untrusted_gyro_noise
 from quadlib.kernels import attitude as attitude_maths
+from quadlib.sensors import gravity_sensor, heading_sensor
 
 
 def test_a_sensor_kernel_takes_h_of_x_or_h_of_x_and_its_context():
