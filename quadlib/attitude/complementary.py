@@ -34,7 +34,7 @@ from numba import njit
 from quadlib.compiled_kernels import called_from_python
 from quadlib.geometry import kernels
 from quadlib.geometry.rotations import accel_tilt
-from quadlib.validation import as_finite_array, as_float_array, as_positive, as_vector
+from quadlib.validation import as_bool, as_finite_array, as_float_array, as_positive, as_vector
 
 __all__ = ["blend_weight", "euler_rate_complementary", "linear_complementary", "nonlinear_complementary"]
 
@@ -78,8 +78,7 @@ def euler_rate_complementary(dt: float, gyro, accel, tau: float, initial=None, c
     """The blog's complementary filter: ``(N, 2)`` roll and pitch [rad], gyro rates turned into
     Euler rates with the current estimate before integrating. ``compiled=True`` runs the same loop
     compiled (:func:`_euler_rate_loop`, equal bit for bit, tested), for long logs."""
-    if not isinstance(compiled, bool):
-        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
+    compiled = as_bool("compiled", compiled)
     gyro, tilt, start, weight = _inputs(gyro, accel, initial, blend_weight(tau, dt))
     if compiled:
         return _euler_rate_loop(float(dt), gyro, tilt, float(start[0]), float(start[1]), weight)

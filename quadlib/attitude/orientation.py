@@ -36,7 +36,7 @@ from quadlib.model import Sensor
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
+from quadlib.validation import as_bool, as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
            "rest_mask", "zero_rate_sensor"]
@@ -136,8 +136,7 @@ def gravity_sensor(sigma_m_s2: float, gated: bool = True) -> Sensor:
     """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]; ``gated=False`` for
     the low-passed accelerometer, which no χ² gate should test (:class:`~quadlib.model.Sensor`)."""
     as_positive("sigma_m_s2", sigma_m_s2)
-    if not isinstance(gated, bool):
-        raise TypeError(f"gated: expected True or False, got {gated!r}")
+    gated = as_bool("gated", gated)
     up = -GRAVITY_N
     return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=Kernel("h", attitude_maths.body_vector, up),
                   H=Kernel("H", attitude_maths.body_vector_H, [*up, 7]), R=sigma_m_s2**2 * np.eye(3), gated=gated)
@@ -176,9 +175,7 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     ``[q, b]``; the inertial navigation filter's 16).
     """
     as_positive("sigma_rad", sigma_rad)
-    for name, flag in (("corrects_bias", corrects_bias), ("tilt_aware", tilt_aware)):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{name}: expected True or False, got {flag!r}")
+    corrects_bias, tilt_aware = as_bool("corrects_bias", corrects_bias), as_bool("tilt_aware", tilt_aware)
     if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
         raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
     dim_x = int(dim_x)
@@ -378,9 +375,7 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
-    for name, flag in (("offline", offline), ("compiled", compiled)):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{name}: expected True or False, got {flag!r}")
+    offline, compiled = as_bool("offline", offline), as_bool("compiled", compiled)
     declination_rad = as_finite_number("declination_rad", declination_rad)
     engine = "auto" if compiled else "readable"
     if params.accel_tau_s is None:
