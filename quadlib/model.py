@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.validation import as_covariance, as_finite_array, as_positive, as_vector
+from quadlib.validation import as_bool, as_covariance, as_finite_array, as_positive, as_vector
 
 __all__ = ["Model", "Sensor"]
 
@@ -125,8 +125,7 @@ class Model:
         elif any(f is not None for f in (self.state_add, self.residual_x, self.add_jacobian)):
             raise ValueError("Model.state_add, Model.residual_x, Model.add_jacobian: expected only with error_names, "
                              "got error_names=None")
-        if not isinstance(self.vectorized, bool):
-            raise TypeError(f"Model.vectorized: expected True or False, got {self.vectorized!r}")
+        object.__setattr__(self, "vectorized", as_bool("Model.vectorized", self.vectorized))
         if self.normalize_jacobian is not None and (self.normalize is None or self.error_names is not None):
             raise ValueError("Model.normalize_jacobian: expected only with normalize on an additive model")
         optional = ("G", "B", "normalize", "normalize_jacobian", "state_add", "residual_x", "add_jacobian",
@@ -303,10 +302,8 @@ class Sensor:
             raise ValueError(f"Sensor({self.name!r}).uncorrected: expected distinct state indices >= 0, "
                              f"got {self.uncorrected!r}")
         object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
-        if not isinstance(self.gated, bool):
-            raise TypeError(f"Sensor({self.name!r}).gated: expected True or False, got {self.gated!r}")
-        if not isinstance(self.vectorized, bool):
-            raise TypeError(f"Sensor({self.name!r}).vectorized: expected True or False, got {self.vectorized!r}")
+        for flag in ("gated", "vectorized"):
+            object.__setattr__(self, flag, as_bool(f"Sensor({self.name!r}).{flag}", getattr(self, flag)))
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

@@ -15,7 +15,7 @@ from quadlib.constants import GRAVITY_N
 from quadlib.engine.kernel import Kernel, linear_kernels
 from quadlib.kernels import attitude as attitude_maths
 from quadlib.model import Sensor
-from quadlib.validation import as_positive
+from quadlib.validation import as_bool, as_positive
 
 __all__ = ["GYRO_NAMES", "gravity_sensor", "heading_sensor", "zero_rate_sensor"]
 
@@ -27,8 +27,7 @@ def gravity_sensor(sigma_m_s2: float, gated: bool = True) -> Sensor:
     """The accelerometer as a measurement of attitude: ``R(q)ᵀ (−g_n)`` [m/s²]; ``gated=False`` for
     the low-passed accelerometer, which no χ² gate should test (:class:`~quadlib.model.Sensor`)."""
     as_positive("sigma_m_s2", sigma_m_s2)
-    if not isinstance(gated, bool):
-        raise TypeError(f"gated: expected True or False, got {gated!r}")
+    gated = as_bool("gated", gated)
     up = -GRAVITY_N
     return Sensor(name="gravity", measurement_names=("fx", "fy", "fz"), h=Kernel("h", attitude_maths.body_vector, up),
                   H=Kernel("H", attitude_maths.body_vector_H, [*up, 7]), R=sigma_m_s2**2 * np.eye(3), gated=gated)
@@ -67,9 +66,7 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     ``[q, b]``; the inertial navigation filter's 16).
     """
     as_positive("sigma_rad", sigma_rad)
-    for name, flag in (("corrects_bias", corrects_bias), ("tilt_aware", tilt_aware)):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{name}: expected True or False, got {flag!r}")
+    corrects_bias, tilt_aware = as_bool("corrects_bias", corrects_bias), as_bool("tilt_aware", tilt_aware)
     if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
         raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
     dim_x = int(dim_x)

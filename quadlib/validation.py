@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "as_bool",
     "as_count",
     "as_covariance",
     "as_finite_array",
@@ -198,6 +199,13 @@ def as_count(name: str, value, low: int = 1) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
         raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
     return int(value)
+
+
+def as_bool(name: str, value) -> bool:
+    """Return ``value`` as a bool; only ``True`` / ``False`` (or a numpy bool) are accepted, not 1 or "yes"."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, got {value!r}")
+    return bool(value)
 
 
 def as_mask(name: str, value, n: int) -> np.ndarray:

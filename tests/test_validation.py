@@ -1,7 +1,15 @@
 import numpy as np
 import pytest
 
-from quadlib.validation import as_covariance, as_finite_array, as_matrix, as_positive, as_probability, as_vector
+from quadlib.validation import (
+    as_bool,
+    as_covariance,
+    as_finite_array,
+    as_matrix,
+    as_positive,
+    as_probability,
+    as_vector,
+)
 
 
 def test_as_vector_accepts_column_and_scalar():
@@ -81,3 +89,15 @@ def test_as_times():
         as_times("t", [0.0, 0.0])
     with pytest.raises(ValueError, match="t: expected at least one time"):
         as_times("t", [])
+
+
+def test_as_bool_accepts_python_and_numpy_bools():
+    assert as_bool("flag", True) is True
+    assert as_bool("flag", np.bool_(False)) is False
+
+
+@pytest.mark.parametrize("bad, shown", [(1, "1"), (0, "0"), ("yes", "'yes'"), (None, "None"),
+                                        (np.array([True]), r"array\(\[ True\]\)")])
+def test_as_bool_rejects_other_values_naming_the_argument(bad, shown):
+    with pytest.raises(TypeError, match=f"^compiled: expected True or False, got {shown}$"):
+        as_bool("compiled", bad)

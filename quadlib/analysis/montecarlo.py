@@ -23,7 +23,7 @@ from quadlib.progress import progress
 from quadlib.replay import run_filter
 from quadlib.samples import Measurements
 from quadlib.sim.simulate import sample_sensor, simulate_model
-from quadlib.validation import as_covariance, as_instance, as_probability, as_rng, as_vector
+from quadlib.validation import as_bool, as_covariance, as_instance, as_probability, as_rng, as_vector
 
 __all__ = ["Moments", "MonteCarloRuns", "importance_posterior", "propagate_samples", "run_monte_carlo"]
 
@@ -159,8 +159,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         raise TypeError(f"sensors: expected a sequence of Sensor, got {sensors!r:.80}")
     if gate_probability is not None:
         gate_probability = as_probability("gate_probability", gate_probability)
-    if not isinstance(batched, bool):
-        raise TypeError(f"batched: expected True or False, got {batched!r}")
+    batched = as_bool("batched", batched)
     if progress_label is not None and not (isinstance(progress_label, str) and progress_label):
         raise TypeError(f"progress_label: expected a non-empty str or None, got {progress_label!r}")
     assumed_sensors = dict(assumed_sensors or {})

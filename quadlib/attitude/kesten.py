@@ -61,7 +61,7 @@ from quadlib.kernels import kesten as kesten_maths
 from quadlib.model import Model, Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_positive, as_quaternions
+from quadlib.validation import as_bool, as_positive, as_quaternions
 
 __all__ = ["FILTERS", "AttitudeNoise", "AttitudeRun", "KestenFilter", "qf", "qkf", "run_attitude_filter", "tovkf",
            "tqf", "tqkf"]
@@ -328,8 +328,7 @@ def run_attitude_filter(filt: KestenFilter, log: ImuLog, q0=(1.0, 0.0, 0.0, 0.0)
         raise TypeError(f"filt: expected a KestenFilter (e.g. qkf(noise)), got {type(filt).__name__}")
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
-    if not isinstance(compiled, bool):
-        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
+    compiled = as_bool("compiled", compiled)
     q0 = quat_normalize(as_quaternions("q0", q0))
     dt = float(log.t[1] - log.t[0]) if len(log) > 1 else 1.0
     ekf = ModelEKF(filt.model, filt.state_from_q(q0), filt.P0, dt)

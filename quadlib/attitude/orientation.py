@@ -33,7 +33,7 @@ from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
 from quadlib.sensors import gravity_sensor, heading_sensor, zero_rate_sensor
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times, check_fields
+from quadlib.validation import as_bool, as_finite_array, as_finite_number, as_positive, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
            "rest_mask", "zero_rate_sensor"]
@@ -300,9 +300,7 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
-    for name, flag in (("offline", offline), ("compiled", compiled)):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{name}: expected True or False, got {flag!r}")
+    offline, compiled = as_bool("offline", offline), as_bool("compiled", compiled)
     declination_rad = as_finite_number("declination_rad", declination_rad)
     engine = "auto" if compiled else "readable"
     if params.accel_tau_s is None:

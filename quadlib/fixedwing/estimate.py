@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_finite_number, as_instance, as_positive, check_fields
+from quadlib.validation import as_bool, as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -198,8 +198,7 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as salmony_ekf, got {filter_factory!r}")
     tuning = as_instance("tuning", tuning, FixedWingTuning)
-    if not isinstance(compiled, bool):
-        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
+    compiled = as_bool("compiled", compiled)
     incl = noise.inclination_rad if inclination_rad is None else as_finite_number("inclination_rad", inclination_rad)
     dt = float(log.t[1] - log.t[0])
     filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)

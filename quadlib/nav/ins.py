@@ -52,7 +52,15 @@ from quadlib.plausibility import check_gps_metres, check_imu_units, check_mag_fr
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples
 from quadlib.sensors import heading_sensor
-from quadlib.validation import as_finite_array, as_finite_number, as_instance, as_positive, as_vector, check_fields
+from quadlib.validation import (
+    as_bool,
+    as_finite_array,
+    as_finite_number,
+    as_instance,
+    as_positive,
+    as_vector,
+    check_fields,
+)
 
 __all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
            "ins_gps_sensor", "ins_initial_state", "ins_model"]
@@ -108,8 +116,7 @@ def ins_gps_sensor(pos_sigma_m, vel_sigma_m_s, use_height: bool = True, reset_af
     sigma = np.concatenate([as_vector("pos_sigma_m", pos_sigma_m, 3), as_vector("vel_sigma_m_s", vel_sigma_m_s, 3)])
     if np.any(sigma <= 0):
         raise ValueError(f"pos_sigma_m, vel_sigma_m_s: expected positive values, got {sigma.tolist()}")
-    if not isinstance(use_height, bool):
-        raise TypeError(f"use_height: expected True or False, got {use_height!r}")
+    use_height = as_bool("use_height", use_height)
     rows = [0, 1, 2, 3, 4, 5] if use_height else [0, 1, 3, 4, 5]
     A = np.zeros((len(rows), 16))
     A[np.arange(len(rows)), np.r_[P, V][rows]] = 1.0  # each component measures one state
@@ -195,8 +202,7 @@ class InsParams:
                             "initial_heading_sigma_rad": "positive", "initial_gyro_bias_sigma_rad_s": "positive",
                             "initial_accel_bias_sigma_m_s2": "positive"})
         for name in ("use_gps_height", "heading_tilt_aware"):
-            if not isinstance(getattr(self, name), bool):
-                raise TypeError(f"InsParams.{name}: expected True or False, got {getattr(self, name)!r}")
+            object.__setattr__(self, name, as_bool(f"InsParams.{name}", getattr(self, name)))
 
     def noise(self, decimate: int = 1) -> tuple[float, np.ndarray, float, float]:
         """The arguments of :func:`ins_model` for inputs that average ``decimate`` IMU samples: the
@@ -314,9 +320,7 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     if baro is not None:
         baro = as_instance("baro", baro, Samples)
     params = as_instance("params", params, InsParams)
-    for name, flag in (("offline", offline), ("compiled", compiled)):
-        if not isinstance(flag, bool):
-            raise TypeError(f"{name}: expected True or False, got {flag!r}")
+    offline, compiled = as_bool("offline", offline), as_bool("compiled", compiled)
     if offline and params.heading_tilt_aware:
         raise ValueError("offline: expected the heading-only update for the smoother (its backward pass assumes an "
                          "optimal forward gain, which the tilt-aware consider update is not), got "

@@ -11,7 +11,7 @@ from quadlib.model import Model, Sensor
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model, quad3d_ukf_options
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements, Samples
-from quadlib.validation import as_instance, as_times, as_vector, check_fields
+from quadlib.validation import as_bool, as_instance, as_times, as_vector, check_fields
 
 __all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
 
@@ -123,8 +123,7 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
     tuning = as_instance("tuning", tuning, Quad3DTuning)
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as quad3d_ekf, got {filter_factory!r}")
-    if not isinstance(compiled, bool):
-        raise TypeError(f"compiled: expected True or False, got {compiled!r}")
+    compiled = as_bool("compiled", compiled)
     gps_sensor, mag_sensor = tuning.sensors()
     filt = filter_factory(x0, float(t[1] - t[0]), tuning)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]

@@ -12,6 +12,7 @@ import numpy as np
 from quadlib.model import Model, Sensor
 from quadlib.samples import Measurements
 from quadlib.validation import (
+    as_bool,
     as_finite_array,
     as_finite_number,
     as_instance,
@@ -56,8 +57,7 @@ def simulate_model(model: Model, x0, t, u, rng, process_noise: bool = True) -> n
     (N, n) ndarray
     """
     model, rng = as_instance("model", model, Model), as_rng(rng)
-    if not isinstance(process_noise, bool):
-        raise TypeError(f"process_noise: expected True or False, got {process_noise!r}")
+    process_noise = as_bool("process_noise", process_noise)
     t = as_times("t", t)
     N = t.shape[0]
     u = model.check_inputs(u, N)

@@ -38,7 +38,7 @@ from quadlib.quad.quad2d import quad2d_model, quad2d_range_sensor
 from quadlib.sim.imu import imu_samples
 from quadlib.sim.simulate import with_dropouts, with_outage, with_outliers
 from quadlib.teaching.bands import consistency_verdict
-from quadlib.validation import as_count, as_positive, as_probability
+from quadlib.validation import as_bool, as_count, as_positive, as_probability
 
 __all__ = ["LABELS", "ComplementaryTrial", "GateTrial", "KfTuningTrial", "complementary_trial", "gate_trial",
            "kf_tuning_trial", "plot_trial", "show_trial", "tuning_sliders"]
@@ -171,8 +171,7 @@ def complementary_trial(tau: float, flight: str = "fast", gyro_bias: bool = Fals
     tau = as_positive("tau", tau)
     if flight not in FLIGHTS:
         raise ValueError(f"flight: expected one of {sorted(FLIGHTS)}, got {flight!r}")
-    if not isinstance(gyro_bias, bool):
-        raise TypeError(f"gyro_bias: expected True or False, got {gyro_bias!r}")
+    gyro_bias = as_bool("gyro_bias", gyro_bias)
     fl = square_course(**FLIGHTS[flight])
     noise = SensorNoise3D(gyro_bias_rad_s=(0.02, 0.02, 0.02)) if gyro_bias else SensorNoise3D()
     log = imu_samples(fl, noise, np.random.default_rng(as_count("seed", seed, 0)))
