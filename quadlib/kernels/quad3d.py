@@ -3,7 +3,7 @@
 State ``x = [p (3), v (3), ψ]`` (NED), input ``u = [f_b (3), ψ̇, φ, θ]``. The readable description,
 with Tellex et al.'s equations and the corrected gravity sign, is
 :func:`~quadlib.quad.quad3d.quad3d_model`, which binds these; its GPS and magnetometer bind the
-shared selections of :mod:`quadlib.kernels.attitude`.
+linear measurement of :mod:`quadlib.kernels.attitude` (:func:`~quadlib.engine.kernel.linear_kernels`).
 """
 
 from __future__ import annotations
