@@ -44,7 +44,7 @@ from quadlib.fixedwing import (
     multiplicative_ekf,
     salmony_ekf,
 )
-from quadlib.quad import Quad3DTuning, SensorNoise3D, figure_eight, quad3d_ukf_options, simulate_run3d
+from quadlib.quad import Quad3DParams, SensorNoise3D, figure_eight, quad3d_ukf_options, simulate_run3d
 from quadlib.samples import Measurements
 from quadlib.sim import imu_faults, imu_samples, vertical_sine
 
@@ -70,12 +70,12 @@ def _cell(err, t, clean_peak, end, ok=True) -> str:
 
 def quad3d_column(kind: str):
     run = simulate_run3d(figure_eight(duration_s=90.0, period_s=10.0), SensorNoise3D(), np.random.default_rng(21))
-    tuning = Quad3DTuning()
-    gps_sensor, mag_sensor = tuning.sensors()
+    params = Quad3DParams()
+    gps_sensor, mag_sensor = params.sensors()
 
     def horizontal_error(gps: Samples, mag: Samples, target=None):
-        f = (ModelUKF(tuning.model(), run.truth[0], tuning.P0, 0.02, **quad3d_ukf_options()) if kind == "UKF"
-             else ModelEKF(tuning.model(), run.truth[0], tuning.P0, 0.02))
+        f = (ModelUKF(params.model(), run.truth[0], params.P0, 0.02, **quad3d_ukf_options()) if kind == "UKF"
+             else ModelEKF(params.model(), run.truth[0], params.P0, 0.02))
         res = run_filter(f, run.t, run.u, [Measurements(gps_sensor, gps.t, gps.z),
                                            Measurements(mag_sensor, mag.t, mag.z)], gate_probability=0.99)
         return np.hypot(*(res.x[:, :2] - (run.truth[:, :2] if target is None else target)).T)
@@ -219,9 +219,9 @@ def main() -> None:
     start = time.perf_counter()
     columns = {"3D EKF [m]": quad3d_column("EKF"), "3D UKF [m]": quad3d_column("UKF")}
     long_run = simulate_run3d(figure_eight(duration_s=2000.0, period_s=10.0), SensorNoise3D(), np.random.default_rng(8))
-    tuning = Quad3DTuning()
-    res = run_filter(ModelEKF(tuning.model(), long_run.truth[0], tuning.P0, 0.02), long_run.t, long_run.u,
-                     [Measurements(s, x.t, x.z) for s, x in zip(tuning.sensors(), (long_run.gps, long_run.mag),
+    params = Quad3DParams()
+    res = run_filter(ModelEKF(params.model(), long_run.truth[0], params.P0, 0.02), long_run.t, long_run.u,
+                     [Measurements(s, x.t, x.z) for s, x in zip(params.sensors(), (long_run.gps, long_run.mag),
                                                                 strict=True)], gate_probability=0.99)
     pd = all(np.linalg.eigvalsh(P).min() > 0 for P in res.P[::1000])
     columns["3D EKF [m]"][f"{long_run.t.size - 1} steps"] = (

@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from quadlib.geometry.rotations import wrap_angle
-from quadlib.quad.estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf, quad3d_ukf
+from quadlib.quad.estimate import Quad3DParams, estimate_quad3d, quad3d_ekf, quad3d_ukf
 from quadlib.quad.flight import SensorNoise3D, square_course
 from quadlib.quad.scenario import simulate_run3d
 
@@ -21,8 +21,8 @@ def main(n_flights: int = 20, seed: int = 8) -> None:
     rng = np.random.default_rng(seed)
     flight, noise, decimate = square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), 10
     dt = decimate * flight.dt
-    tuning = Quad3DTuning()  # chapter 11's
-    P0 = tuning.P0
+    params = Quad3DParams()  # chapter 11's
+    P0 = params.P0
     factories = {"EKF": (quad3d_ekf, True), "EKF, run_filter": (quad3d_ekf, False),
                  "UKF": (quad3d_ukf, True), "UKF, run_filter": (quad3d_ukf, False)}
     errs = {name: [] for name in factories}
@@ -35,7 +35,7 @@ def main(n_flights: int = 20, seed: int = 8) -> None:
         estimates = {}
         for name, (factory, compiled) in factories.items():
             start = time.perf_counter()
-            res = estimate_quad3d(run.t, run.u, run.gps, run.mag, x0, tuning, filter_factory=factory, compiled=compiled)
+            res = estimate_quad3d(run.t, run.u, run.gps, run.mag, x0, params, filter_factory=factory, compiled=compiled)
             seconds[name] += time.perf_counter() - start
             e = res.x - run.truth
             e[:, 6] = wrap_angle(e[:, 6])

@@ -1,7 +1,7 @@
 """Salmony's fixed-wing attitude problem: model, simulated flight and estimators."""
 
 from .estimate import (
-    FixedWingTuning,
+    FixedWingParams,
     complementary_attitude,
     error_state_ukf,
     estimate_fixedwing_attitude,
@@ -29,7 +29,7 @@ from .sim import FixedWingFlight, aileron_roll, fixedwing_flight, fixedwing_samp
 __all__ = [
     "FixedWingFlight",
     "FixedWingNoise",
-    "FixedWingTuning",
+    "FixedWingParams",
     "accel_jacobian",
     "accel_model",
     "aileron_roll",

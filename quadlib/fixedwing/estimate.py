@@ -37,12 +37,12 @@ from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
 from quadlib.validation import as_bool, as_finite_number, as_instance, as_positive, check_fields
 
-__all__ = ["FixedWingTuning", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
+__all__ = ["FixedWingParams", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
 
 
 @dataclass(frozen=True)
-class FixedWingTuning:
+class FixedWingParams:
     """Chapter 15's tuning of the fixed-wing filters.
 
     Parameters
@@ -82,32 +82,32 @@ def _process_noise(noise: FixedWingNoise) -> tuple[float, float, float | None]:
     return noise.gyro_sigma_rad_s, max(noise.gyro_bias_walk_rad_s_sqrt_s, 1e-6), noise.gyro_range_rad_s
 
 
-def salmony_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
+def salmony_ekf(x0, noise: FixedWingNoise, dt: float, params: FixedWingParams = FixedWingParams()) -> ModelEKF:
     """Salmony's EKF (:func:`~quadlib.fixedwing.model.fixedwing_model`) at ``x0 = [q, b]``."""
-    x0, noise, tuning = _filter_args(x0, noise, tuning)
-    P0 = np.diag([tuning.quaternion_sigma0**2] * 4 + [tuning.bias_sigma0_rad_s**2] * 3)
+    x0, noise, params = _filter_args(x0, noise, params)
+    P0 = np.diag([params.quaternion_sigma0**2] * 4 + [params.bias_sigma0_rad_s**2] * 3)
     return ModelEKF(fixedwing_model(*_process_noise(noise)), x0, P0, dt)
 
 
-def _filter_args(x0, noise, tuning):
+def _filter_args(x0, noise, params):
     return (as_attitude_state("x0", x0), as_instance("noise", noise, FixedWingNoise),
-            as_instance("tuning", tuning, FixedWingTuning))
+            as_instance("params", params, FixedWingParams))
 
 
-def _error_state_P0(tuning: FixedWingTuning) -> np.ndarray:
-    return np.diag([tuning.attitude_sigma0_rad**2] * 3 + [tuning.bias_sigma0_rad_s**2] * 3)
+def _error_state_P0(params: FixedWingParams) -> np.ndarray:
+    return np.diag([params.attitude_sigma0_rad**2] * 3 + [params.bias_sigma0_rad_s**2] * 3)
 
 
-def multiplicative_ekf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelEKF:
+def multiplicative_ekf(x0, noise: FixedWingNoise, dt: float, params: FixedWingParams = FixedWingParams()) -> ModelEKF:
     """The error-state model (:func:`~quadlib.attitude.attitude_bias_model`) in an EKF."""
-    x0, noise, tuning = _filter_args(x0, noise, tuning)
-    return ModelEKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+    x0, noise, params = _filter_args(x0, noise, params)
+    return ModelEKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(params), dt)
 
 
-def error_state_ukf(x0, noise: FixedWingNoise, dt: float, tuning: FixedWingTuning = FixedWingTuning()) -> ModelUKF:
+def error_state_ukf(x0, noise: FixedWingNoise, dt: float, params: FixedWingParams = FixedWingParams()) -> ModelUKF:
     """The error-state model in a UKF (default sigma points, α = 0.5)."""
-    x0, noise, tuning = _filter_args(x0, noise, tuning)
-    return ModelUKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(tuning), dt)
+    x0, noise, params = _filter_args(x0, noise, params)
+    return ModelUKF(attitude_bias_model(*_process_noise(noise)), x0, _error_state_P0(params), dt)
 
 
 def initial_state(log: ImuLog, n_still: int) -> np.ndarray:
@@ -163,14 +163,14 @@ def fixedwing_measurements(log: ImuLog, accel_sigma_m_s2: float, mag_sensor: Sen
 
 def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNoise(), filter_factory=salmony_ekf,
                                 inclination_rad: float | None = None, prefilter_hz: float | None = None,
-                                tuning: FixedWingTuning = FixedWingTuning(), compiled: bool = True) -> FilterRun:
+                                params: FixedWingParams = FixedWingParams(), compiled: bool = True) -> FilterRun:
     """Attitude and gyro bias of a fixed-wing aircraft from its IMU, magnetometer and airspeed, in one call.
 
     Parameters
     ----------
     log : ImuLog
         With ``mag`` (unit vector or any unit; it is compared as a direction) and ``airspeed``; NaN
-        rows are missing samples. The first ``tuning.n_still`` samples initialise the filter.
+        rows are missing samples. The first ``params.n_still`` samples initialise the filter.
     noise : FixedWingNoise
         The sensors' noise and the field's declination and inclination.
     filter_factory : callable
@@ -180,7 +180,7 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
         document's horizontal field).
     prefilter_hz : float, optional
         Cut-off of Salmony's second-order prefilter; none by default.
-    tuning : FixedWingTuning
+    params : FixedWingParams
     compiled : bool
         Run the same steps on the compiled engine (:mod:`quadlib.engine`; equal to the readable
         loop to 1e-10, tested; ``run.engine`` says which ran). False runs the readable filter,
@@ -197,14 +197,14 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
         raise TypeError(f"noise: expected a FixedWingNoise, got {type(noise).__name__}")
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as salmony_ekf, got {filter_factory!r}")
-    tuning = as_instance("tuning", tuning, FixedWingTuning)
+    params = as_instance("params", params, FixedWingParams)
     compiled = as_bool("compiled", compiled)
     incl = noise.inclination_rad if inclination_rad is None else as_finite_number("inclination_rad", inclination_rad)
     dt = float(log.t[1] - log.t[0])
-    filt = filter_factory(initial_state(log, tuning.n_still), noise, dt, tuning)
+    filt = filter_factory(initial_state(log, params.n_still), noise, dt, params)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
-    measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, tuning.unmodelled_m_s2, prefilter_hz)
-    return run_filter(filt, log.t, log.gyro, measurements, gate_probability=tuning.gate_probability,
+    measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, params.unmodelled_m_s2, prefilter_hz)
+    return run_filter(filt, log.t, log.gyro, measurements, gate_probability=params.gate_probability,
                       engine="auto" if compiled else "readable")
 
 

@@ -1,6 +1,6 @@
 """The quadrotor models of Tellex et al. §5–7, their flights and the blog's pipeline."""
 
-from .estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf, quad3d_ukf
+from .estimate import Quad3DParams, estimate_quad3d, quad3d_ekf, quad3d_ukf
 from .flight import (
     Flight3D,
     SensorNoise3D,
@@ -30,7 +30,7 @@ from .scenario import Run3D, imu_with_magnetometer, run3d_measurements, simulate
 
 __all__ = [
     "Flight3D",
-    "Quad3DTuning",
+    "Quad3DParams",
     "Run3D",
     "SensorNoise3D",
     "baro_samples",

@@ -13,11 +13,11 @@ from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements, Samples
 from quadlib.validation import as_bool, as_instance, as_times, as_vector, check_fields
 
-__all__ = ["Quad3DTuning", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
+__all__ = ["Quad3DParams", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
 
 
 @dataclass(frozen=True)
-class Quad3DTuning:
+class Quad3DParams:
     """Chapter 11's tuning of the 7-state EKF ``[x, y, z, ẋ, ẏ, ż, ψ]`` for a 50 Hz filter step.
 
     Parameters
@@ -65,20 +65,20 @@ class Quad3DTuning:
         return np.diag(np.asarray(self.initial_sigma, dtype=float) ** 2)
 
 
-def quad3d_ekf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelEKF:
+def quad3d_ekf(x0, dt: float, params: Quad3DParams = Quad3DParams()) -> ModelEKF:
     """The 7-state EKF at ``x0`` with step ``dt`` [s]."""
-    tuning = as_instance("tuning", tuning, Quad3DTuning)
-    return ModelEKF(tuning.model(), x0, tuning.P0, dt)
+    params = as_instance("params", params, Quad3DParams)
+    return ModelEKF(params.model(), x0, params.P0, dt)
 
 
-def quad3d_ukf(x0, dt: float, tuning: Quad3DTuning = Quad3DTuning()) -> ModelUKF:
+def quad3d_ukf(x0, dt: float, params: Quad3DParams = Quad3DParams()) -> ModelUKF:
     """The same model in a UKF (default sigma points, α = 0.5; the yaw averaged on the circle,
     :func:`~quadlib.quad.quad3d.quad3d_ukf_options`)."""
-    tuning = as_instance("tuning", tuning, Quad3DTuning)
-    return ModelUKF(tuning.model(), x0, tuning.P0, dt, **quad3d_ukf_options())
+    params = as_instance("params", params, Quad3DParams)
+    return ModelUKF(params.model(), x0, params.P0, dt, **quad3d_ukf_options())
 
 
-def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTuning = Quad3DTuning(),
+def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DParams = Quad3DParams(),
                     gate_probability: float | None = None, filter_factory=quad3d_ekf,
                     compiled: bool = True) -> FilterRun:
     """Position, velocity and yaw of a quadrotor from its IMU inputs, GPS and magnetometer, in one call.
@@ -96,7 +96,7 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
         Magnetometer heading [rad].
     x0 : (7,) array_like, optional
         Initial state; by default the first GPS fix (position and velocity) and the first heading.
-    tuning : Quad3DTuning
+    params : Quad3DParams
     gate_probability : float in (0, 1), optional
         χ² gate on each update's NIS (see :func:`quadlib.run_filter`).
     filter_factory : callable
@@ -120,12 +120,12 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, tuning: Quad3DTun
         x0 = np.concatenate([gps.z[0], mag.z[0]])
     x0 = as_vector("x0", x0, 7)
     t = as_times("t", t)
-    tuning = as_instance("tuning", tuning, Quad3DTuning)
+    params = as_instance("params", params, Quad3DParams)
     if not callable(filter_factory):
         raise TypeError(f"filter_factory: expected a callable such as quad3d_ekf, got {filter_factory!r}")
     compiled = as_bool("compiled", compiled)
-    gps_sensor, mag_sensor = tuning.sensors()
-    filt = filter_factory(x0, float(t[1] - t[0]), tuning)
+    gps_sensor, mag_sensor = params.sensors()
+    filt = filter_factory(x0, float(t[1] - t[0]), params)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
     return run_filter(filt, t, u, measurements, gate_probability=gate_probability,
                       engine="auto" if compiled else "readable")

@@ -46,7 +46,7 @@ from quadlib.fixedwing import (
 from quadlib.geometry.quaternion import quat_from_rotvec, quat_multiply, quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
 from quadlib.kernels import attitude as attitude_maths
-from quadlib.quad import Quad3DTuning, SensorNoise3D, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
+from quadlib.quad import Quad3DParams, SensorNoise3D, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
 from quadlib.sim.imu import imu_samples
 
 FIELD = earth_field_ned(50.0, np.radians(65.0))
@@ -190,7 +190,7 @@ QUAD3D = _quad3d_log()
 def _quad3d(factory):
     """Chapter 11's EKF or UKF as estimate_quad3d builds it, gated."""
     t, u, gps, mag, x0 = QUAD3D
-    gps_sensor, mag_sensor = Quad3DTuning().sensors()
+    gps_sensor, mag_sensor = Quad3DParams().sensors()
     measurements = [Measurements(gps_sensor, *gps), Measurements(mag_sensor, *mag)]
     return lambda: factory(x0, 0.02), u, measurements, 0.999
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from quadlib.fixedwing.estimate import (
-    FixedWingTuning,
+    FixedWingParams,
     error_state_ukf,
     estimate_fixedwing_attitude,
     multiplicative_ekf,
@@ -47,7 +47,7 @@ ROLL_LOG = fixedwing_samples(ROLL, ROLL_NOISE, np.random.default_rng(5))
 
 CASES = {
     "faults, gated": (FAULTY, NOISE, {}),
-    "faults, no gate": (FAULTY, NOISE, {"tuning": FixedWingTuning(gate_probability=None)}),
+    "faults, no gate": (FAULTY, NOISE, {"params": FixedWingParams(gate_probability=None)}),
     "faults, 2 Hz prefilter, horizontal field": (FAULTY, NOISE, {"prefilter_hz": 2.0, "inclination_rad": 0.0}),
     "aileron rolls, saturated gyro": (ROLL_LOG, ROLL_NOISE, {}),
 }

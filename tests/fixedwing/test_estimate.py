@@ -7,7 +7,7 @@ import pytest
 from quadlib import ModelEKF, run_filter
 from quadlib.analysis.metrics import angle_rmse, attitude_error
 from quadlib.fixedwing.estimate import (
-    FixedWingTuning,
+    FixedWingParams,
     error_state_ukf,
     estimate_fixedwing_attitude,
     fixedwing_measurements,
@@ -37,11 +37,11 @@ def _run(log=LOG, inclination=NOISE.inclination_rad, factory=salmony_ekf, **kw):
     return run, _euler_error_deg(run.x)
 
 
-UNGATED = FixedWingTuning(gate_probability=None)  # to compare models: a gate would hide a wrong one's errors
+UNGATED = FixedWingParams(gate_probability=None)  # to compare models: a gate would hide a wrong one's errors
 
 
 def _run_ungated(log=LOG, inclination=NOISE.inclination_rad):
-    run = estimate_fixedwing_attitude(log, NOISE, salmony_ekf, inclination_rad=inclination, tuning=UNGATED)
+    run = estimate_fixedwing_attitude(log, NOISE, salmony_ekf, inclination_rad=inclination, params=UNGATED)
     return run, _euler_error_deg(run.x)
 
 
@@ -128,7 +128,7 @@ def test_bad_arguments_are_named():
     with pytest.raises(ValueError, match="gyro_sigma_rad_s: expected a finite number > 0"):
         fixedwing_model(0.0, 1e-4)
     with pytest.raises(ValueError, match="n_still"):
-        estimate_fixedwing_attitude(LOG, NOISE, tuning=FixedWingTuning(n_still=-3))
+        estimate_fixedwing_attitude(LOG, NOISE, params=FixedWingParams(n_still=-3))
 
 
 def test_the_seed_that_diverged_no_longer_does_and_spikes_are_gated():

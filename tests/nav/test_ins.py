@@ -12,7 +12,7 @@ from quadlib.geometry import quat_conjugate, quat_from_euler, quat_multiply, qua
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.imu import ImuLog
 from quadlib.nav import InsParams, estimate_ins, imu_blocks, ins_gps_sensor, ins_model
-from quadlib.quad.estimate import Quad3DTuning, estimate_quad3d
+from quadlib.quad.estimate import Quad3DParams, estimate_quad3d
 from quadlib.quad.flight import SensorNoise3D, square_course
 from quadlib.quad.scenario import imu_with_magnetometer, simulate_run3d
 from quadlib.samples import Samples
@@ -96,13 +96,13 @@ SIM_PARAMS = InsParams(gyro_sigma_rad_s=0.5, accel_sigma_m_s2=(0.5, 0.5, 1.5), g
 
 
 def _square_flights(n_flights, params, seed=8, offline=False):
-    flight, noise, rng, tuning = square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(seed), \
-        Quad3DTuning()
+    flight, noise, rng, quad3d = square_course(leg_s=4.0, turn_s=2.0), SensorNoise3D(), np.random.default_rng(seed), \
+        Quad3DParams()
     rows = []
     for _ in range(n_flights):
         run = simulate_run3d(flight, noise, rng, decimate=10)
-        x0 = run.truth[0] + rng.normal(size=7) * np.sqrt(np.diag(tuning.P0))
-        ekf = estimate_quad3d(run.t, run.u, run.gps, run.mag, x0, tuning)
+        x0 = run.truth[0] + rng.normal(size=7) * np.sqrt(np.diag(quad3d.P0))
+        ekf = estimate_quad3d(run.t, run.u, run.gps, run.mag, x0, quad3d)
         log = imu_with_magnetometer(run, flight, noise, rng)
         ins = estimate_ins(log, run.gps, run.baro, params, decimate=10, baro_offset_m=0.0, offline=offline)
         k = np.searchsorted(flight.t, ins.t)

@@ -12,7 +12,7 @@ import pytest
 from quadlib import Measurements, ModelEKF, ModelUKF, run_filter
 from quadlib.engine import Kernel
 from quadlib.kernels import quad3d as quad3d_maths
-from quadlib.quad.estimate import Quad3DTuning, estimate_quad3d, quad3d_ekf, quad3d_ukf
+from quadlib.quad.estimate import Quad3DParams, estimate_quad3d, quad3d_ekf, quad3d_ukf
 from quadlib.quad.flight import SensorNoise3D, square_course
 from quadlib.quad.quad3d import quad3d_ukf_options
 from quadlib.quad.scenario import simulate_run3d
@@ -83,17 +83,17 @@ def test_a_gated_filter_runs_on_the_engine(factory, assert_same_run):
 def test_a_changed_model_gives_the_changed_models_answer(kind, assert_same_run):
     """A model changed with dataclasses.replace: to a kernel with other parameters it runs on the
     engine, to a plain-Python Q on the readable loop (which says so); both give the changed model's answer."""
-    tuning = Quad3DTuning()
-    model = tuning.model()
+    params = Quad3DParams()
+    model = params.model()
     louder = replace(model, Q=Kernel("Q", quad3d_maths.quad3d_noise, 10.0 * model.Q.params))
     in_python = replace(model, Q=lambda dt: 100.0 * model.Q(dt))
 
     def make(m):
         if kind == "EKF":
-            return ModelEKF(m, X0, tuning.P0, 0.02)
-        return ModelUKF(m, X0, tuning.P0, 0.02, **quad3d_ukf_options())
+            return ModelEKF(m, X0, params.P0, 0.02)
+        return ModelUKF(m, X0, params.P0, 0.02, **quad3d_ukf_options())
 
-    gps, mag = tuning.sensors()
+    gps, mag = params.sensors()
     measurements = [Measurements(gps, GPS.t, GPS.z), Measurements(mag, MAG.t, MAG.z)]
     runs = {}
     for name, m in (("original", model), ("louder", louder), ("in python", in_python)):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from quadlib import ModelEKF, run_filter
-from quadlib.quad.estimate import Quad3DTuning, estimate_quad3d
+from quadlib.quad.estimate import Quad3DParams, estimate_quad3d
 from quadlib.quad.flight import SensorNoise3D, square_course
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_mag_sensor, quad3d_model
 from quadlib.quad.scenario import run3d_measurements, simulate_run3d
@@ -21,6 +21,6 @@ def test_the_one_call_ekf_is_chapter_8s_filter():
     np.testing.assert_array_equal(result.x, by_hand.x)
     assert np.sqrt(np.mean(np.sum((result.x[:, :3] - run.truth[:, :3]) ** 2, axis=1))) < 1.0  # metres
     assert result.sigma.shape == (run.t.size, 7)
-    assert Quad3DTuning().P0[2, 2] == 4.0
+    assert Quad3DParams().P0[2, 2] == 4.0
     with pytest.raises(TypeError, match="gps: expected Samples, got tuple"):
         estimate_quad3d(run.t, run.u, (run.gps.t, run.gps.z), run.mag)

@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 
 from quadlib import Measurements, ModelEKF, ModelUKF, run_filter
-from quadlib.quad.estimate import Quad3DTuning
+from quadlib.quad.estimate import Quad3DParams
 from quadlib.quad.flight import SensorNoise3D, figure_eight, square_course
 from quadlib.quad.quad3d import quad3d_gps_sensor, quad3d_ukf_options
 from quadlib.quad.scenario import simulate_run3d
 
-TUNING = Quad3DTuning()
+PARAMS = Quad3DParams()
 GATE = 0.99
 
 
@@ -28,11 +28,11 @@ def gentle():
 
 
 def _run(run, gps_z, ukf=False, gps_sensor=None):
-    gps_sensor = gps_sensor or TUNING.sensors()[0]
-    mag = TUNING.sensors()[1]
+    gps_sensor = gps_sensor or PARAMS.sensors()[0]
+    mag = PARAMS.sensors()[1]
     x0 = run.truth[0]
-    f = (ModelUKF(TUNING.model(), x0, TUNING.P0, 0.02, **quad3d_ukf_options()) if ukf
-         else ModelEKF(TUNING.model(), x0, TUNING.P0, 0.02))
+    f = (ModelUKF(PARAMS.model(), x0, PARAMS.P0, 0.02, **quad3d_ukf_options()) if ukf
+         else ModelEKF(PARAMS.model(), x0, PARAMS.P0, 0.02))
     return run_filter(f, run.t, run.u, [Measurements(gps_sensor, run.gps.t, gps_z),
                                         Measurements(mag, run.mag.t, run.mag.z)], gate_probability=GATE)
 
