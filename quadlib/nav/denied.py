@@ -76,11 +76,11 @@ def simulate_denied_flight(flight: Flight3D, walls, rng, *, noise: SensorNoise3D
                         scan_t=flight.t[k], scans=scans, matches=matches, noise=noise)
 
 
-def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, decimate: int = 10,
-             gate_probability: float | None = 0.9999) -> FilterRun:
+def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, decimate: int = 10) -> FilterRun:
     """The INS over ``run`` from its true start (σ 0.1 m, 0.05 m/s, and ``params``' attitude and bias
-    σ), aided by the barometer and ``aid``: ``"none"`` (dead reckoning), ``"gps"`` or ``"scans"``.
-    By default ``params`` are the simulator's noise (:func:`sim_params`)."""
+    σ), aided by the barometer and ``aid``: ``"none"`` (dead reckoning), ``"gps"`` or ``"scans"``,
+    every update gated at ``params.gate_probability``. By default ``params`` are the simulator's
+    noise (:func:`sim_params`)."""
     run = as_instance("run", run, DeniedFlight)
     if aid not in AIDS:
         raise ValueError(f"aid: expected one of {AIDS}, got {aid!r}")
@@ -95,7 +95,7 @@ def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, de
                                  run.gps.z))
     elif aid == "scans":
         aids.append(pose_measurements(run.scan_t, run.matches))
-    return run_filter(ekf, t, u, [m.between(t[0], t[-1]) for m in aids], gate_probability=gate_probability)
+    return run_filter(ekf, t, u, [m.between(t[0], t[-1]) for m in aids], gate_probability=params.gate_probability)
 
 
 def sim_params(noise: SensorNoise3D) -> InsParams:

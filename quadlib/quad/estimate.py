@@ -36,6 +36,9 @@ class Quad3DParams:
         Magnetometer heading noise [rad].
     initial_sigma : (7,) tuple
         σ of the initial state [m, m, m, m/s, m/s, m/s, rad].
+    gate_probability : float in (0, 1) or None
+        χ² gate on each update's NIS in :func:`estimate_quad3d` (see :func:`quadlib.run_filter`);
+        None (default): no gate.
     """
 
     accel_sigma_m_s2: tuple = (2.0, 2.0, 1.5 / float(np.sqrt(10.0)))
@@ -44,11 +47,13 @@ class Quad3DParams:
     gps_vel_sigma_m_s: tuple = (0.1, 0.1, 0.3)
     mag_yaw_sigma_rad: float = 0.1
     initial_sigma: tuple = (1.0, 1.0, 2.0, 0.1, 0.1, 0.3, 0.1)
+    gate_probability: float | None = None
 
     def __post_init__(self):
         check_fields(self, {"accel_sigma_m_s2": "positive or 3", "yaw_rate_sigma_rad_s": "positive",
                             "gps_pos_sigma_m": "positive or 3", "gps_vel_sigma_m_s": "positive or 3",
-                            "mag_yaw_sigma_rad": "positive", "initial_sigma": "positives"})
+                            "mag_yaw_sigma_rad": "positive", "initial_sigma": "positives",
+                            "gate_probability": "optional probability"})
 
     def model(self) -> Model:
         """The transition model (eq. 49, NED gravity) with this process noise."""
@@ -79,8 +84,7 @@ def quad3d_ukf(x0, dt: float, params: Quad3DParams = Quad3DParams()) -> ModelUKF
 
 
 def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DParams = Quad3DParams(),
-                    gate_probability: float | None = None, filter_factory=quad3d_ekf,
-                    compiled: bool = True) -> FilterRun:
+                    filter_factory=quad3d_ekf, compiled: bool = True) -> FilterRun:
     """Position, velocity and yaw of a quadrotor from its IMU inputs, GPS and magnetometer, in one call.
 
     Parameters
@@ -97,8 +101,7 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DPar
     x0 : (7,) array_like, optional
         Initial state; by default the first GPS fix (position and velocity) and the first heading.
     params : Quad3DParams
-    gate_probability : float in (0, 1), optional
-        χ² gate on each update's NIS (see :func:`quadlib.run_filter`).
+        The model's and sensors' noise, the initial σ and the gate.
     filter_factory : callable
         :func:`quad3d_ekf` (default) or :func:`quad3d_ukf`.
     compiled : bool
@@ -127,6 +130,6 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DPar
     gps_sensor, mag_sensor = params.sensors()
     filt = filter_factory(x0, float(t[1] - t[0]), params)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
-    return run_filter(filt, t, u, measurements, gate_probability=gate_probability,
+    return run_filter(filt, t, u, measurements, gate_probability=params.gate_probability,
                       engine="auto" if compiled else "readable")
 

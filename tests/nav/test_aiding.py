@@ -1,14 +1,25 @@
 """Scan matching in the INS: the whitened pose measurement, and GPS-denied flights through a room
 and down a corridor."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from quadlib import ModelEKF, Sensor
 from quadlib.geometry.quaternion import quat_from_euler, quat_multiply
-from quadlib.nav import InsParams, ins_pose_sensor, match_poses, navigate, pose_measurements, simulate_denied_flight
+from quadlib.nav import (
+    InsParams,
+    ins_pose_sensor,
+    match_poses,
+    navigate,
+    pose_measurements,
+    sim_params,
+    simulate_denied_flight,
+)
 from quadlib.perception import MapMatch, corridor_map, room_map
 from quadlib.quad import SensorNoise3D, square_course, straight_course
+from quadlib.samples import Samples
 
 
 def _ekf(yaw=0.3):
@@ -103,6 +114,19 @@ def test_scan_matching_holds_a_gps_denied_flight_within_a_metre(square):
     assert scans.max() < 1.0 and drift[-1] > 20.0
     tracked = match_poses(square.matches)
     assert np.isfinite(tracked).all()
+
+
+def test_navigate_gates_at_the_params_gate_probability(square):
+    z = square.gps.z.copy()
+    z[50:53, :3] += 25.0  # three fixes 25 m off
+    jumped = replace(square, gps=Samples(square.gps.t, z))
+    params = sim_params(square.noise)
+    gated = navigate(jumped, "gps", replace(params, gate_probability=0.9999))
+    ungated = navigate(jumped, "gps", replace(params, gate_probability=None))
+    assert gated.sensors["gps"].rejected.sum() >= 3 and not ungated.sensors["gps"].rejected.any()
+    gated_error = np.linalg.norm(_horizontal_error(square, gated), axis=1).max()
+    ungated_error = np.linalg.norm(_horizontal_error(square, ungated), axis=1).max()
+    assert gated_error < 0.5 < ungated_error
 
 
 def test_a_corridor_fixes_the_cross_track_position_only():

@@ -40,6 +40,7 @@ def _faulty():
 
 U, GPS, MAG, X0 = _faulty()
 CASES = {"clean": (RUN.u, RUN.gps, RUN.mag, RUN.truth[0]), "faults": (U, GPS, MAG, X0)}
+GATED = Quad3DParams(gate_probability=0.999)
 
 
 @pytest.mark.parametrize("factory", [quad3d_ekf, quad3d_ukf], ids=["EKF", "UKF"])
@@ -71,11 +72,11 @@ def test_a_gated_filter_runs_on_the_engine(factory, assert_same_run):
     gps_z[40:45, :3] += 30.0  # a jump
     gps_z[100:, 1] += 15.0  # and a jump that stays: the position group is reset
     gps = Samples(RUN.gps.t, gps_z)
-    gated = estimate_quad3d(RUN.t, U, gps, MAG, RUN.truth[0], gate_probability=0.999, filter_factory=factory)
+    gated = estimate_quad3d(RUN.t, U, gps, MAG, RUN.truth[0], GATED, filter_factory=factory)
     assert gated.engine == "compiled"
     trace = gated.sensors["gps"]
     assert trace.rejected.any() and trace.reset.any() and (trace.rejected & trace.used).any()
-    assert_same_run(gated, estimate_quad3d(RUN.t, U, gps, MAG, RUN.truth[0], gate_probability=0.999,
+    assert_same_run(gated, estimate_quad3d(RUN.t, U, gps, MAG, RUN.truth[0], GATED,
                                             filter_factory=factory, compiled=False))
 
 
