@@ -40,7 +40,7 @@ def one_trial(name: str) -> tuple[str, list, tuple]:
     trial = load_broad_trial(name)
     scores = []
     for setting in GRID:
-        e = broad_errors(estimate_orientation(trial.log, params=replace(OrientationParams(), **setting)),
+        e = broad_errors(estimate_orientation(trial.log, params=replace(OrientationParams(), **setting)).q,
                          trial.q_nb, trial.movement)
         scores.append(tuple(e[c] for c in COLUMNS))
     vqf = broad_errors(orientation_estimate("VQF", trial.log), trial.q_nb, trial.movement)

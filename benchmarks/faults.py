@@ -131,7 +131,7 @@ def _kesten(name):
 
 def _orientation(noise, log):
     params = OrientationParams(gyro_sigma_rad_s=noise.gyro_sigma_rad_s, gyro_range_rad_s=noise.gyro_range_rad_s)
-    return estimate_orientation(log, params=params)
+    return estimate_orientation(log, params=params).q
 
 
 def attitude_column(estimate):

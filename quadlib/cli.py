@@ -105,17 +105,16 @@ def table(run, kind: str) -> tuple[list[str], np.ndarray]:
     attitude's σ [deg] and, for the INS, velocity, position and their σ."""
     from quadlib.geometry import quat_to_euler
 
-    q = run.x[:, :4]
+    q = run.q
     euler = np.degrees(np.column_stack(quat_to_euler(q / np.linalg.norm(q, axis=1, keepdims=True))))
     sigma = np.sqrt(np.maximum(np.diagonal(run.P, axis1=1, axis2=2), 0.0))
     names = ["t", "qw", "qx", "qy", "qz", "roll_deg", "pitch_deg", "yaw_deg",
              "bias_x_rad_s", "bias_y_rad_s", "bias_z_rad_s", "sigma_roll_deg", "sigma_pitch_deg", "sigma_yaw_deg"]
-    bias = run.x[:, 10:13] if kind == "ins" else run.x[:, 4:7]
-    columns = [run.t[:, None], q, euler, bias, np.degrees(sigma[:, :3])]
+    columns = [run.t[:, None], q, euler, run.gyro_bias, np.degrees(sigma[:, :3])]
     if kind == "ins":
         names += ["vn", "ve", "vd", "pn", "pe", "pd", "sigma_vn", "sigma_ve", "sigma_vd",
                   "sigma_pn", "sigma_pe", "sigma_pd"]
-        columns += [run.x[:, 4:10], sigma[:, 3:9]]
+        columns += [run.v, run.p, sigma[:, 3:9]]
     return names, np.hstack(columns)
 
 
@@ -126,14 +125,14 @@ def compare(run, kind: str, reference, flight) -> list[str]:
     lines = []
     if reference is not None:
         q_ref = reference_at(reference, run.t)
-        ok = np.isfinite(q_ref).all(axis=1) & np.isfinite(run.x[:, :4]).all(axis=1)
-        q = run.x[ok, :4] / np.linalg.norm(run.x[ok, :4], axis=1, keepdims=True)
+        ok = np.isfinite(q_ref).all(axis=1) & np.isfinite(run.q).all(axis=1)
+        q = run.q[ok] / np.linalg.norm(run.q[ok], axis=1, keepdims=True)
         err = np.degrees(attitude_error(q, q_ref[ok]))
         lines.append(f"attitude against the log's reference: {np.sqrt(np.mean(err**2)):.2f}° RMS, "
                      f"{err.max():.2f}° at most, over {ok.sum()} samples")
     if kind == "ins" and flight.position is not None:
         p_ref = np.column_stack([np.interp(run.t, flight.position.t, flight.position.z[:, k]) for k in range(3)])
-        horizontal = np.linalg.norm(run.x[:, 7:9] - p_ref[:, :2], axis=1)
+        horizontal = np.linalg.norm(run.p[:, :2] - p_ref[:, :2], axis=1)
         lines.append(f"horizontal position against the autopilot's: {np.sqrt(np.nanmean(horizontal**2)):.2f} m RMS")
     return lines
 
@@ -164,7 +163,7 @@ def plot(path: Path, run, kind: str, reference, flight) -> None:
         axes[k].set_ylabel(label)
     if kind == "ins":
         for k, label in enumerate(("north [m]", "east [m]", "down [m]")):
-            axes[3 + k].plot(run.t, run.x[:, 7 + k], lw=1, label="estimate")
+            axes[3 + k].plot(run.t, run.p[:, k], lw=1, label="estimate")
             if flight.position is not None:
                 axes[3 + k].plot(flight.position.t, flight.position.z[:, k], lw=1, ls="--", label="autopilot")
             axes[3 + k].set_ylabel(label)

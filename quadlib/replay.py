@@ -24,7 +24,7 @@ Every argument is checked before the filter is touched, so a bad log leaves it u
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -78,6 +78,9 @@ class FilterRun:
     held_input : (N,) bool, ``u[k]`` was NaN and the previous input was used instead
     engine : ``"compiled"`` when the compiled engine ran it (:mod:`quadlib.engine`), else ``"readable"``
     engine_note : why the readable loop ran when the engine was allowed to ("" otherwise)
+    layout : dict of part name -> slice (or column index) of ``x``, which the estimator attaches
+        (``estimate_orientation``: ``q``, ``gyro_bias``); each part is then an attribute, ``run.q`` is
+        ``run.x[:, layout["q"]]``. Empty for a bare :func:`run_filter`.
     """
 
     t: np.ndarray
@@ -87,6 +90,23 @@ class FilterRun:
     held_input: np.ndarray
     engine: str = "readable"
     engine_note: str = ""
+    layout: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if not isinstance(self.layout, dict):
+            raise TypeError(f"layout: expected a dict of part name -> slice, got {type(self.layout).__name__}")
+        for name, columns in self.layout.items():
+            if not isinstance(name, str) or not name.isidentifier() or hasattr(type(self), name):
+                raise ValueError(f"layout: expected part names that are new attribute names, got {name!r}")
+            if not isinstance(columns, (slice, int)) or isinstance(columns, bool):
+                raise TypeError(f"layout[{name!r}]: expected a slice or a column index, got {columns!r}")
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        # called only when ``name`` is not a field: a part of the state, by the layout
+        layout = self.__dict__.get("layout", {})
+        if name not in layout:
+            raise AttributeError(f"FilterRun has no attribute or state part {name!r} (parts: {sorted(layout)})")
+        return self.x[:, layout[name]]
 
     @property
     def sigma(self) -> np.ndarray:
@@ -364,7 +384,7 @@ def rts_smooth(model: Model, run: FilterRun, u, engine: str = "auto") -> FilterR
         P_s = P + C @ (Ps[k + 1] - prior_P) @ C.T
         Ps[k] = 0.5 * (P_s + P_s.T)
     return FilterRun(t=run.t, x=xs, P=Ps, sensors=run.sensors, held_input=run.held_input,
-                     engine_note=compiled or run.engine_note)
+                     engine_note=compiled or run.engine_note, layout=run.layout)
 
 
 def _rts_compiled(model: Model, run: FilterRun, u: np.ndarray, engine: str) -> FilterRun | str:
@@ -378,7 +398,7 @@ def _rts_compiled(model: Model, run: FilterRun, u: np.ndarray, engine: str) -> F
     if smoothed is None:
         return "the compiled backward pass raised, so the readable one ran"
     return FilterRun(t=run.t, x=smoothed[0], P=smoothed[1], sensors=run.sensors, held_input=run.held_input,
-                     engine=run.engine, engine_note=run.engine_note)
+                     engine=run.engine, engine_note=run.engine_note, layout=run.layout)
 
 
 class FilterDivergedError(FloatingPointError):
@@ -396,4 +416,4 @@ def _first(run: FilterRun, k: int) -> FilterRun:
         keep = tr.t < run.t[k] if k < run.t.size else np.ones(tr.t.size, bool)
         traces[name] = SensorTrace(**{f: getattr(tr, f)[keep] for f in SensorTrace.__dataclass_fields__})
     return FilterRun(t=run.t[:k], x=run.x[:k], P=run.P[:k], sensors=traces, held_input=run.held_input[:k],
-                     engine=run.engine, engine_note=run.engine_note)
+                     engine=run.engine, engine_note=run.engine_note, layout=run.layout)

@@ -77,7 +77,7 @@ MEKF_FAULTS = imu_faults(MEKF_LOG, FIELD_UT, MEKF_NOISE.accel_sigma_m_s2, np.ran
 
 
 def _mekf_error(log):
-    q = estimate_orientation(log)
+    q = estimate_orientation(log).q
     return np.degrees(attitude_error(q, TUMBLE.q_nb)), q
 
 

@@ -294,3 +294,18 @@ def test_rts_smooth_names_a_wrong_run():
     model = height_model(0.2)
     with pytest.raises(TypeError, match="run: expected a FilterRun"):
         rts_smooth(model, np.zeros((3, 1)), None)
+
+
+def test_a_layout_names_columns_of_the_state(scenario):
+    model, sensor, t, u, x, meas, _ = scenario
+    run = run_filter(ModelEKF(model, [1.0], [[0.1]], 0.02), t, u, [meas])
+    assert run.layout == {}
+    named = replace(run, layout={"h": 0, "heights": slice(0, 1)})
+    np.testing.assert_array_equal(named.h, run.x[:, 0])
+    np.testing.assert_array_equal(named.heights, run.x)
+    with pytest.raises(AttributeError, match=r"no attribute or state part 'q' \(parts: \['h', 'heights'\]\)"):
+        named.q  # noqa: B018
+    with pytest.raises(ValueError, match="layout: expected part names that are new attribute names, got 'sigma'"):
+        replace(run, layout={"sigma": 0})
+    with pytest.raises(TypeError, match=r"layout\['h'\]: expected a slice or a column index, got 'a'"):
+        replace(run, layout={"h": "a"})

@@ -106,8 +106,8 @@ def _ahrs(kind):
 
 
 _ESTIMATORS = {
-    "quadlib MEKF": lambda log: estimate_orientation(log),
-    "quadlib MEKF smoother": lambda log: estimate_orientation(log, offline=True),
+    "quadlib MEKF": lambda log: estimate_orientation(log).q,
+    "quadlib MEKF smoother": lambda log: estimate_orientation(log, offline=True).q,
     **{f"Kesten {name}": _kesten(name) for name in FILTERS},
     "Salmony EKF": _fixedwing(salmony_ekf),
     "fixed-wing ES-UKF": _fixedwing(error_state_ukf),

@@ -18,11 +18,12 @@ from quadlib.model import Model
 from quadlib.sensors import GYRO_NAMES
 from quadlib.validation import as_positive, as_vector
 
-__all__ = ["STATE_NAMES", "additive_attitude_bias_model", "as_attitude_state", "attitude_bias_model",
+__all__ = ["LAYOUT", "STATE_NAMES", "additive_attitude_bias_model", "as_attitude_state", "attitude_bias_model",
            "gyro_error_jacobians", "gyro_step", "gyro_step_jacobian", "normalize_attitude",
            "normalize_attitude_jacobian", "quaternion_rate_matrix"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "b_p [rad/s]", "b_q [rad/s]", "b_r [rad/s]")
+LAYOUT = {"q": slice(0, 4), "gyro_bias": slice(4, 7)}  # the parts of x, for FilterRun.layout
 
 
 def as_attitude_state(name: str, x) -> np.ndarray:

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from quadlib.attitude.bias_model import attitude_bias_model
+from quadlib.attitude.bias_model import LAYOUT, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
@@ -229,8 +229,11 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
 
 
 def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationParams | None = None, *,
-                         offline: bool = False, declination_rad: float = 0.0) -> np.ndarray:
-    """``q_nb`` (N, 4), scalar first, sensor → NED, of an IMU at every sample: the one-call API.
+                         offline: bool = False, declination_rad: float = 0.0) -> FilterRun:
+    """The orientation of an IMU at every sample, and its gyro bias: the one-call API.
+
+    ``estimate_orientation(...).q`` is ``q_nb`` (N, 4), scalar first, sensor → NED;
+    ``.gyro_bias`` (N, 3) [rad/s]; the rest of the run is :func:`orientation_run`'s.
 
     Parameters
     ----------
@@ -254,6 +257,11 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
         each sample's attitude then also uses what came after it. For post-flight analysis.
     declination_rad : float
         Where magnetic north is, east of true north [rad].
+
+    Returns
+    -------
+    FilterRun
+        ``x`` is ``[q_nb, b]`` per sample (``run.q``, ``run.gyro_bias``), smoothed when ``offline``.
     """
     if isinstance(t, ImuLog):
         if gyr is not None or acc is not None or mag is not None:
@@ -281,14 +289,14 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
                       "the gyro's alone, from body x (or y) pointing north at the start", stacklevel=2)
     streams = {} if log.mag is None else {"heading": (names[3], np.isfinite(log.mag).all(axis=1))}
     warn_unused(run.sensors, streams)
-    return run.x[:, :4]
+    return run
 
 
 def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams(), *, offline: bool = False,
                     declination_rad: float = 0.0, compiled: bool = True) -> FilterRun:
     """The filter run behind :func:`estimate_orientation`: ``run.x`` is ``[q_nb, b]`` per sample
-    (attitude and gyro bias [rad/s]), ``run.P`` the covariance of ``[δθ, δb]``, ``run.sensors`` what
-    each update did (the forward pass's, also when ``offline``).
+    (attitude and gyro bias [rad/s]: ``run.q``, ``run.gyro_bias``), ``run.P`` the covariance of
+    ``[δθ, δb]``, ``run.sensors`` what each update did (the forward pass's, also when ``offline``).
 
     Starts from the first accelerometer and magnetometer pair that gives an attitude, bias zero.
     The filter is :class:`~quadlib.ModelEKF` driven by :func:`~quadlib.replay.run_filter` (and
@@ -311,7 +319,9 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
                                      offline, engine)
         gravity = inertial_lowpass(log, tau, first.x[:, 4:], two_sided=offline, gap_accel_rad_s2=alpha)
         run, model = _orientation_pass(log, params, declination_rad, gravity, offline, engine, first.x[:, :4])
-    return rts_smooth(model, run, _gyro_input(log, params), engine=engine) if offline else run
+    if offline:
+        run = rts_smooth(model, run, _gyro_input(log, params), engine=engine)
+    return replace(run, layout=dict(LAYOUT))
 
 
 def _gyro_input(log: ImuLog, params: OrientationParams) -> np.ndarray:

@@ -15,11 +15,11 @@ does all of it in one call with chapter 15's tuning.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from quadlib.attitude.bias_model import as_attitude_state, attitude_bias_model
+from quadlib.attitude.bias_model import LAYOUT, as_attitude_state, attitude_bias_model
 from quadlib.attitude.complementary import euler_rate_complementary
 from quadlib.filters import ModelEKF, ModelUKF
 from quadlib.fixedwing.model import (
@@ -189,7 +189,7 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     Returns
     -------
     FilterRun
-        ``x`` is ``[q_nb, b]`` (N, 7) for every filter.
+        ``x`` is ``[q_nb, b]`` (N, 7) for every filter: ``run.q`` and ``run.gyro_bias``.
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
@@ -204,8 +204,9 @@ def estimate_fixedwing_attitude(log: ImuLog, noise: FixedWingNoise = FixedWingNo
     filt = filter_factory(initial_state(log, params.n_still), noise, dt, params)
     mag = fixedwing_mag_sensor(noise.declination_rad, max(noise.mag_sigma, 1e-6), incl)
     measurements = fixedwing_measurements(log, noise.accel_sigma_m_s2, mag, params.unmodelled_m_s2, prefilter_hz)
-    return run_filter(filt, log.t, log.gyro, measurements, gate_probability=params.gate_probability,
-                      engine="auto" if compiled else "readable")
+    run = run_filter(filt, log.t, log.gyro, measurements, gate_probability=params.gate_probability,
+                     engine="auto" if compiled else "readable")
+    return replace(run, layout=dict(LAYOUT))
 
 
 def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1.0) -> np.ndarray:

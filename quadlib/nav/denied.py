@@ -10,14 +10,14 @@ aids: nothing but the barometer (IMU dead reckoning), GPS, or the lidar's poses 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from quadlib.filters import ModelEKF
 from quadlib.imu import ImuLog
 from quadlib.nav.aiding import pose_measurements
-from quadlib.nav.ins import InsParams, imu_blocks, ins_baro_sensor, ins_gps_sensor
+from quadlib.nav.ins import LAYOUT, InsParams, imu_blocks, ins_baro_sensor, ins_gps_sensor
 from quadlib.perception.lidar import lidar_scan
 from quadlib.perception.map_matching import MapMatch, track_scans, wall_points
 from quadlib.quad.flight import Flight3D, SensorNoise3D, baro_samples, gps_samples
@@ -80,7 +80,7 @@ def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, de
     """The INS over ``run`` from its true start (σ 0.1 m, 0.05 m/s, and ``params``' attitude and bias
     σ), aided by the barometer and ``aid``: ``"none"`` (dead reckoning), ``"gps"`` or ``"scans"``,
     every update gated at ``params.gate_probability``. By default ``params`` are the simulator's
-    noise (:func:`sim_params`)."""
+    noise (:func:`sim_params`). The run's state parts are :func:`~quadlib.nav.estimate_ins`'s."""
     run = as_instance("run", run, DeniedFlight)
     if aid not in AIDS:
         raise ValueError(f"aid: expected one of {AIDS}, got {aid!r}")
@@ -95,7 +95,8 @@ def navigate(run: DeniedFlight, aid: str, params: InsParams | None = None, *, de
                                  run.gps.z))
     elif aid == "scans":
         aids.append(pose_measurements(run.scan_t, run.matches))
-    return run_filter(ekf, t, u, [m.between(t[0], t[-1]) for m in aids], gate_probability=params.gate_probability)
+    run = run_filter(ekf, t, u, [m.between(t[0], t[-1]) for m in aids], gate_probability=params.gate_probability)
+    return replace(run, layout=dict(LAYOUT))
 
 
 def sim_params(noise: SensorNoise3D) -> InsParams:

@@ -34,7 +34,7 @@ both are far below the GPS noise.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -62,8 +62,8 @@ from quadlib.validation import (
     check_fields,
 )
 
-__all__ = ["ERROR_NAMES", "INPUT_NAMES", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks", "ins_baro_sensor",
-           "ins_gps_sensor", "ins_initial_state", "ins_model"]
+__all__ = ["ERROR_NAMES", "INPUT_NAMES", "LAYOUT", "STATE_NAMES", "InsParams", "estimate_ins", "imu_blocks",
+           "ins_baro_sensor", "ins_gps_sensor", "ins_initial_state", "ins_model"]
 
 STATE_NAMES = ("q0", "q1", "q2", "q3", "vn [m/s]", "ve [m/s]", "vd [m/s]", "pn [m]", "pe [m]", "pd [m]",
                "bg_x [rad/s]", "bg_y [rad/s]", "bg_z [rad/s]", "ba_x [m/s2]", "ba_y [m/s2]", "ba_z [m/s2]")
@@ -72,6 +72,7 @@ ERROR_NAMES = ("dtheta_x", "dtheta_y", "dtheta_z", "dvn", "dve", "dvd", "dpn", "
 INPUT_NAMES = ("p [rad/s]", "q [rad/s]", "r [rad/s]", "fx [m/s2]", "fy [m/s2]", "fz [m/s2]")
 Q_, V, P, BG, BA = slice(0, 4), slice(4, 7), slice(7, 10), slice(10, 13), slice(13, 16)  # in x
 GYRO_BIAS_ERRORS = (9, 10, 11)  # in δx
+LAYOUT = {"q": Q_, "v": V, "p": P, "gyro_bias": BG, "accel_bias": BA}  # the parts of x, for FilterRun.layout
 
 
 # the kernels both the readable filter and the compiled engine call (quadlib.kernels.ins; the error's
@@ -311,7 +312,9 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
     Returns
     -------
     FilterRun
-        On the filter's grid (``imu_blocks``): ``x`` (N, 16), ``P`` over the 15 error states.
+        On the filter's grid (``imu_blocks``): ``x`` (N, 16), ``P`` over the 15 error states; the
+        parts of ``x`` by name (``LAYOUT``): ``run.q``, ``run.v``, ``run.p``, ``run.gyro_bias``,
+        ``run.accel_bias``.
     """
     log = as_instance("log", log, ImuLog)
     gps = as_instance("gps", gps, Samples)
@@ -369,6 +372,7 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
                                  gyro_bias_errors=GYRO_BIAS_ERRORS, tilt_aware=params.heading_tilt_aware)
         measurements.append(Measurements(heading, mag_log.t, np.full(len(mag_log), declination_rad), context=mag))
     engine = "auto" if compiled else "readable"
-    run = run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability, engine=engine)
+    run = replace(run_filter(ekf, t, u, measurements, gate_probability=params.gate_probability, engine=engine),
+                  layout=dict(LAYOUT))
     warn_unused(run.sensors)
     return rts_smooth(model, run, u, engine=engine) if offline else run

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -13,7 +13,9 @@ from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements, Samples
 from quadlib.validation import as_bool, as_instance, as_times, as_vector, check_fields
 
-__all__ = ["Quad3DParams", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
+__all__ = ["LAYOUT", "Quad3DParams", "estimate_quad3d", "quad3d_ekf", "quad3d_ukf"]
+
+LAYOUT = {"p": slice(0, 3), "v": slice(3, 6), "yaw": 6}  # the parts of x, for FilterRun.layout
 
 
 @dataclass(frozen=True)
@@ -112,7 +114,8 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DPar
     Returns
     -------
     FilterRun
-        ``x`` (N, 7) and ``sigma`` (N, 7).
+        ``x`` (N, 7) and ``sigma`` (N, 7); the parts of ``x`` by name (``LAYOUT``): ``run.p`` (N, 3),
+        ``run.v`` (N, 3), ``run.yaw`` (N,).
     """
     for name, s in (("gps", gps), ("mag", mag)):
         if not isinstance(s, Samples):
@@ -130,6 +133,7 @@ def estimate_quad3d(t, u, gps: Samples, mag: Samples, x0=None, params: Quad3DPar
     gps_sensor, mag_sensor = params.sensors()
     filt = filter_factory(x0, float(t[1] - t[0]), params)
     measurements = [Measurements(gps_sensor, gps.t, gps.z), Measurements(mag_sensor, mag.t, mag.z)]
-    return run_filter(filt, t, u, measurements, gate_probability=params.gate_probability,
-                      engine="auto" if compiled else "readable")
+    run = run_filter(filt, t, u, measurements, gate_probability=params.gate_probability,
+                     engine="auto" if compiled else "readable")
+    return replace(run, layout=dict(LAYOUT))
 

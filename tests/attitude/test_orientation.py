@@ -11,13 +11,14 @@ from quadlib.constants import earth_field_ned
 from quadlib.data import load_broad_trial
 from quadlib.geometry.quaternion import quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
+from quadlib.replay import FilterRun
 from quadlib.sim.imu import BodyMotion, imu_samples
 
 
 def test_a_slice_of_a_real_trial_is_tracked_to_a_few_degrees():
     trial = load_broad_trial("02_undisturbed_slow_rotation_B")
     n = 3000  # the first 10.5 s: rest, then slow rotations
-    q = estimate_orientation(trial.log.slice(0, n))
+    q = estimate_orientation(trial.log.slice(0, n)).q
     errors = broad_errors(q, trial.q_nb[:n])  # every sample of the slice, at rest or moving
     assert errors["total_deg"] < 3.0 and errors["inclination_deg"] < 2.0
 
@@ -61,7 +62,7 @@ def test_a_translation_does_not_tilt_the_estimate():
     noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(moving, noise, np.random.default_rng(6), field_n=FIELD)
     def max_error(tau):
-        q = estimate_orientation(log, params=OrientationParams(accel_tau_s=tau))
+        q = estimate_orientation(log, params=OrientationParams(accel_tau_s=tau)).q
         return np.degrees(attitude_error(q, MOTION.q_nb))[MOTION.t > 10].max()
 
     averaged = max_error(3.0)
@@ -78,11 +79,11 @@ def test_a_magnet_near_the_sensor_does_not_turn_the_heading():
     mag = np.array(log.mag)
     near = (log.t > 15) & (log.t < 25)
     mag[near] += [60.0, 0.0, 0.0]  # a magnet fixed to the sensor, stronger than the Earth's field
-    q = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag))
+    q = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag)).q
     err = np.degrees(attitude_error(q, MOTION.q_nb))
     assert err[near].max() < 3.0 and err[MOTION.t > 30].max() < 2.0
     trusting = OrientationParams(gate_probability=None, checks=SensorChecks(None, None, None, None))
-    believed = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag), params=trusting)
+    believed = estimate_orientation(ImuLog(log.t, log.gyro, log.accel, mag), params=trusting).q
     assert np.degrees(attitude_error(believed, MOTION.q_nb))[near].max() > 10.0  # the checks matter
 
 
@@ -90,10 +91,21 @@ def test_arrays_take_each_gyro_row_as_the_rate_before_its_time():
     noise = ImuNoise(gyro_sigma_rad_s=0.002, accel_sigma_m_s2=0.05, mag_sigma=0.3)
     log = imu_samples(MOTION, noise, np.random.default_rng(4), field_n=FIELD).slice(0, 500)
     ending = np.vstack([np.zeros((1, 3)), log.gyro[:-1]])  # the same rates, stamped at the end of their interval
-    q = estimate_orientation(log.t, ending, log.accel, log.mag)
+    q = estimate_orientation(log.t, ending, log.accel, log.mag).q
     assert q.shape == (500, 4)
-    assert np.abs(q[:-1] - estimate_orientation(log)[:-1]).max() < 1e-12
-    assert not np.array_equal(estimate_orientation(log.t, ending, log.accel), q)  # no magnetometer: gyro heading
+    assert np.abs(q[:-1] - estimate_orientation(log).q[:-1]).max() < 1e-12
+    assert not np.array_equal(estimate_orientation(log.t, ending, log.accel).q, q)  # no magnetometer: gyro heading
+
+
+def test_the_run_names_its_parts_online_and_offline():
+    log = imu_samples(MOTION, ImuNoise(mag_sigma=0.3), np.random.default_rng(4), field_n=FIELD).slice(0, 300)
+    for offline in (False, True):
+        run = estimate_orientation(log, offline=offline)
+        assert isinstance(run, FilterRun) and run.layout == {"q": slice(0, 4), "gyro_bias": slice(4, 7)}
+        np.testing.assert_array_equal(run.q, run.x[:, :4])
+        np.testing.assert_array_equal(run.gyro_bias, run.x[:, 4:])
+    with pytest.raises(AttributeError, match=r"state part 'p' \(parts: \['gyro_bias', 'q'\]\)"):
+        run.p  # noqa: B018
 
 
 def test_broad_raw_arrays_give_what_the_loader_gives():
@@ -105,8 +117,8 @@ def test_broad_raw_arrays_give_what_the_loader_gives():
     with h5py.File(data_path(f"broad/{name}.hdf5"), "r") as f:
         rate = float(f.attrs["sampling_rate"])
         gyr, acc, mag = (np.asarray(f[k], dtype=float)[:20_000] for k in ("imu_gyr", "imu_acc", "imu_mag"))
-    q = estimate_orientation(np.arange(len(gyr)) / rate, gyr, acc, mag)
-    loaded = estimate_orientation(load_broad_trial(name).log.slice(0, 20_000))
+    q = estimate_orientation(np.arange(len(gyr)) / rate, gyr, acc, mag).q
+    loaded = estimate_orientation(load_broad_trial(name).log.slice(0, 20_000)).q
     assert np.abs(q - loaded).max() < 1e-12
 
 

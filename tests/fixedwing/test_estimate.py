@@ -42,6 +42,7 @@ UNGATED = FixedWingParams(gate_probability=None)  # to compare models: a gate wo
 
 def _run_ungated(log=LOG, inclination=NOISE.inclination_rad):
     run = estimate_fixedwing_attitude(log, NOISE, salmony_ekf, inclination_rad=inclination, params=UNGATED)
+    np.testing.assert_array_equal(np.hstack([run.q, run.gyro_bias]), run.x)
     return run, _euler_error_deg(run.x)
 
 

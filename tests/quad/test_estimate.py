@@ -21,6 +21,9 @@ def test_the_one_call_ekf_is_chapter_8s_filter():
     np.testing.assert_array_equal(result.x, by_hand.x)
     assert np.sqrt(np.mean(np.sum((result.x[:, :3] - run.truth[:, :3]) ** 2, axis=1))) < 1.0  # metres
     assert result.sigma.shape == (run.t.size, 7)
+    parts = (result.p, result.v, result.yaw)
+    assert [a.shape for a in parts] == [(run.t.size, 3), (run.t.size, 3), (run.t.size,)]
+    np.testing.assert_array_equal(np.column_stack(parts), result.x)
     assert Quad3DParams().P0[2, 2] == 4.0
     with pytest.raises(TypeError, match="gps: expected Samples, got tuple"):
         estimate_quad3d(run.t, run.u, (run.gps.t, run.gps.z), run.mag)
