@@ -248,10 +248,6 @@ def as_rng(rng) -> np.random.Generator:
 def _field_ok(kind: str, value) -> bool:
     if kind.startswith("optional "):
         return value is None or _field_ok(kind[len("optional "):], value)
-    if kind == "bool":
-        return isinstance(value, bool)
-    if kind == "count":
-        return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and value >= 1
     if kind.endswith("or 3"):  # one value or one per axis
         values = np.ravel(value) if np.ndim(value) == 1 and np.size(value) == 3 else [value]
         return all(_field_ok(kind[: -len(" or 3")], v) for v in values)
@@ -272,18 +268,35 @@ def _field_ok(kind: str, value) -> bool:
 
 
 _EXPECTED = {"finite": "a finite number", "positive": "a finite number > 0", "nonnegative": "a finite number >= 0",
-             "probability": "a number in (0, 1)", "count": "an int >= 1", "bool": "True or False",
-             "vector3": "3 finite numbers", "positives": "a sequence of finite numbers > 0"}
+             "probability": "a number in (0, 1)", "vector3": "3 finite numbers",
+             "positives": "a sequence of finite numbers > 0"}
+_CONVERTED = {"count": as_count, "bool": as_bool}  # checked, and stored as the int or bool they return
+
+
+def _converted(convert, name: str, value, optional: bool):
+    """``convert(name, value)``; for an optional field its error also says None is allowed."""
+    try:
+        return convert(name, value)
+    except (TypeError, ValueError) as err:
+        if not optional:
+            raise
+        raise type(err)(str(err).replace(", got ", " or None, got ", 1)) from None
 
 
 def check_fields(obj, kinds: dict[str, str]) -> None:
     """Check a parameter dataclass's fields: ``kinds`` maps a field to ``"finite"``, ``"positive"``,
     ``"nonnegative"``, ``"probability"``, ``"count"``, ``"bool"``, ``"vector3"`` or ``"positives"``, optionally
     prefixed ``"optional "`` (None allowed) and suffixed ``" or 3"`` (one value or one per axis).
-    Raises naming ``Class.field``, the expectation and the value."""
+    Raises naming ``Class.field``, the expectation and the value. ``"count"`` and ``"bool"`` are
+    :func:`as_count` and :func:`as_bool` (same rule, same message), and the field is set to what they return."""
     for name, kind in kinds.items():
         value = getattr(obj, name)
-        if not _field_ok(kind, value):
+        optional = kind.startswith("optional ")
+        convert = _CONVERTED.get(kind.removeprefix("optional "))
+        if convert is not None:
+            if not (optional and value is None):
+                object.__setattr__(obj, name, _converted(convert, f"{type(obj).__name__}.{name}", value, optional))
+        elif not _field_ok(kind, value):
             base = kind.removeprefix("optional ").removesuffix(" or 3")
             expected = _EXPECTED[base] + (" (or 3 of them, one per axis)" if kind.endswith(" or 3") else "")
             expected += " or None" if kind.startswith("optional ") else ""

@@ -1,14 +1,18 @@
+from dataclasses import dataclass
+
 import numpy as np
 import pytest
 
 from quadlib.validation import (
     as_bool,
+    as_count,
     as_covariance,
     as_finite_array,
     as_matrix,
     as_positive,
     as_probability,
     as_vector,
+    check_fields,
 )
 
 
@@ -101,3 +105,32 @@ def test_as_bool_accepts_python_and_numpy_bools():
 def test_as_bool_rejects_other_values_naming_the_argument(bad, shown):
     with pytest.raises(TypeError, match=f"^compiled: expected True or False, got {shown}$"):
         as_bool("compiled", bad)
+
+
+@dataclass(frozen=True)
+class _Flags:
+    n: object = 3
+    on: object = True
+    every: object = None
+
+    def __post_init__(self):
+        check_fields(self, {"n": "count", "on": "bool", "every": "optional count"})
+
+
+@pytest.mark.parametrize("field, bad, check", [("n", 0, as_count), ("n", 2.0, as_count), ("n", True, as_count),
+                                               ("n", "3", as_count), ("on", 1, as_bool), ("on", "yes", as_bool),
+                                               ("on", None, as_bool)])
+def test_count_and_bool_fields_are_as_count_and_as_bool(field, bad, check):
+    with pytest.raises((TypeError, ValueError)) as direct:
+        check(f"_Flags.{field}", bad)
+    with pytest.raises(direct.type) as checked:
+        _Flags(**{field: bad})
+    assert str(checked.value) == str(direct.value)
+
+
+def test_count_and_bool_fields_store_what_as_count_and_as_bool_return():
+    flags = _Flags(n=np.int64(4), on=np.bool_(False), every=2)
+    assert type(flags.n) is int and flags.on is False and flags.every == 2
+    assert _Flags(every=None).every is None
+    with pytest.raises(ValueError, match=r"^_Flags.every: expected an int >= 1 or None, got 0$"):
+        _Flags(every=0)

@@ -201,9 +201,8 @@ class InsParams:
                             "baro_sigma_m": "positive", "heading_sigma_rad": "positive", "gps_delay_s": "nonnegative",
                             "gate_probability": "optional probability", "initial_tilt_sigma_rad": "positive",
                             "initial_heading_sigma_rad": "positive", "initial_gyro_bias_sigma_rad_s": "positive",
-                            "initial_accel_bias_sigma_m_s2": "positive"})
-        for name in ("use_gps_height", "heading_tilt_aware"):
-            object.__setattr__(self, name, as_bool(f"InsParams.{name}", getattr(self, name)))
+                            "initial_accel_bias_sigma_m_s2": "positive", "use_gps_height": "bool",
+                            "heading_tilt_aware": "bool"})
 
     def noise(self, decimate: int = 1) -> tuple[float, np.ndarray, float, float]:
         """The arguments of :func:`ins_model` for inputs that average ``decimate`` IMU samples: the
