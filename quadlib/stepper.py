@@ -212,8 +212,9 @@ class FilterStepper:
             raise ValueError(f"time_resolution_s: expected a number or one per sensor ({len(sensors)}), "
                              f"got shape {np.shape(time_resolution_s)}")
         tols = np.broadcast_to(tols, (len(sensors),))
-        tols = [as_positive(f"time_resolution_s[{i}]", v) for i, v in enumerate(tols)]
+        tols = [as_positive("time_resolution_s", float(v)) for v in tols]
         self.filt, self.model = filt, filt.model
+        self.start = (filt.estimate, filt.P.copy())  # the state a replay of the log starts from
         gated = [gate_probability is not None and s.gated for s in sensors]
         self._logs = [_Log(s, tol, group_gates(s, gate_probability) if g else None)
                       for s, tol, g in zip(sensors, tols, gated, strict=True)]
