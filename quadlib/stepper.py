@@ -113,6 +113,10 @@ class Sample(NamedTuple):
     context: object = None
 
 
+def _has_nan(a: np.ndarray) -> bool:
+    return any(v != v for v in a.tolist())  # for a short row, quicker than np.isnan(a).any()
+
+
 class _Log:
     """One sensor's samples and what the filter did with each."""
 
@@ -120,14 +124,13 @@ class _Log:
         self.sensor, self.tol, self.gates = sensor, tol, gates
         self.locked_since = [None] * len(sensor.groups)  # per group: since when the gate rejects it
         self.last_t, self.last_z, self.equal_run = None, None, 0  # the duplicate and stuck rules
-        self.rows = {k: [] for k in ("t", "z", "context", "innovation", "S", "nis", "used", "rejected", "reset",
-                                     "missing", "duplicate")}
+        self.rows = []  # per sample: (t, z, context, innovation or None, missing, duplicate)
 
     def screen(self, t_j: float, z: np.ndarray, c) -> tuple[bool, bool]:
         """``(missing, duplicate)`` of the next sample, in the order the sensor took them."""
         duplicate = self.last_t is not None and t_j - self.last_t <= self.tol
         self.last_t = t_j
-        bad = bool(np.isnan(z).any()) or (c is not None and bool(np.isnan(c).any()))
+        bad = _has_nan(z) or (c is not None and _has_nan(c))
         stuck = False
         if not bad and self.sensor.stuck_samples is not None:
             same = self.last_z is not None and bool((z == self.last_z).all())
@@ -136,40 +139,23 @@ class _Log:
             stuck = self.equal_run >= self.sensor.stuck_samples - 1
         return (bad or stuck) and not duplicate, duplicate
 
-    def record(self, t_j, z, c, inn, missing: bool, duplicate: bool) -> None:
-        k, r = self.sensor.dim_z, self.rows
-        r["t"].append(t_j)
-        r["z"].append(z)
-        r["context"].append(c)
-        r["missing"].append(missing)
-        r["duplicate"].append(duplicate)
-        if inn is None:
-            r["innovation"].append(np.full(k, np.nan))
-            r["S"].append(np.full((k, k), np.nan))
-            r["nis"].append(np.nan)
-            r["used"].append(False)
-            r["rejected"].append(False)
-            r["reset"].append(False)
-            return
-        r["innovation"].append(inn.y)
-        r["S"].append(inn.S)
-        r["nis"].append(inn.nis)
-        r["used"].append(inn.accepted)
-        r["rejected"].append(bool(inn.rejected_groups))
-        r["reset"].append(inn.reset)
-
     def trace(self) -> SensorTrace:
-        r, k = self.rows, self.sensor.dim_z
-        K = len(r["t"])
-        return SensorTrace(t=np.array(r["t"], float), innovation=np.array(r["innovation"]).reshape(K, k),
-                           S=np.array(r["S"]).reshape(K, k, k), nis=np.array(r["nis"], float),
-                           **{f: np.array(r[f], bool) for f in ("used", "rejected", "reset", "missing", "duplicate")})
+        k, K = self.sensor.dim_z, len(self.rows)
+        innovation, S = np.full((K, k), np.nan), np.full((K, k, k), np.nan)
+        nis = np.full(K, np.nan)
+        flags = np.zeros((5, K), bool)  # used, rejected, reset, missing, duplicate
+        for j, (_, _, _, inn, missing, duplicate) in enumerate(self.rows):
+            flags[3:, j] = missing, duplicate
+            if inn is not None:
+                innovation[j], S[j], nis[j] = inn.y, inn.S, inn.nis
+                flags[:3, j] = inn.accepted, bool(inn.rejected_groups), inn.reset
+        return SensorTrace(np.array([r[0] for r in self.rows], float), innovation, S, nis, *flags)
 
     def measurements(self) -> Measurements:
-        r, K = self.rows, len(self.rows["t"])
-        context = None if not self.sensor.dim_c else np.array(r["context"]).reshape(K, self.sensor.dim_c)
-        return Measurements(self.sensor, np.array(r["t"], float), np.array(r["z"]).reshape(K, self.sensor.dim_z),
-                            context)
+        K, sensor = len(self.rows), self.sensor
+        context = None if not sensor.dim_c else np.array([r[2] for r in self.rows]).reshape(K, sensor.dim_c)
+        return Measurements(sensor, np.array([r[0] for r in self.rows], float),
+                            np.array([r[1] for r in self.rows]).reshape(K, sensor.dim_z), context)
 
 
 class FilterStepper:
@@ -308,7 +294,7 @@ class FilterStepper:
         ordered by sensor, then time."""
         filt = self.filt
         if self._t:
-            held = u is not None and u.size > 0 and bool(np.isnan(u).any())
+            held = u is not None and _has_nan(u)
             if held:
                 u = self._u[-1]
             elif u is None:
@@ -326,7 +312,7 @@ class FilterStepper:
         """One sample: dropped, skipped or used, with the gate and the timed reset of its groups."""
         missing, duplicate = log.screen(t_j, z, c)
         if missing or duplicate:
-            log.record(t_j, z, c, None, missing, duplicate)
+            log.rows.append((t_j, z, c, None, missing, duplicate))
             return
         filt, sensor, gates, since = self.filt, log.sensor, log.gates, log.locked_since
         inn = filt.update_unchecked(sensor, z, gates, c)
@@ -345,7 +331,7 @@ class FilterStepper:
             for g in range(len(sensor.groups)):
                 if g not in inn.rejected_groups:
                     since[g] = None
-        log.record(t_j, z, c, inn, False, False)
+        log.rows.append((t_j, z, c, inn, False, False))
 
     # results -----------------------------------------------------------------------------
 
