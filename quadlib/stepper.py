@@ -113,6 +113,12 @@ class Sample(NamedTuple):
     context: object = None
 
 
+def _row(name: str, value) -> np.ndarray:
+    """``value`` as a float copy (the stepper keeps it for its log), a number as one element."""
+    arr = np.array(as_float_array(name, value), dtype=float)
+    return arr.reshape(1) if arr.ndim == 0 else arr
+
+
 def _has_nan(a: np.ndarray) -> bool:
     return any(v != v for v in a.tolist())  # for a short row, quicker than np.isnan(a).any()
 
@@ -240,7 +246,7 @@ class FilterStepper:
         m = self.model.dim_u
         if u is None:
             return self.model.check_input(None)
-        arr = as_float_array("u", u).reshape(-1) if np.ndim(u) <= 1 else as_float_array("u", u)
+        arr = _row("u", u)
         if arr.shape != (m,) or np.isinf(arr).any():
             raise ValueError(f"u: expected a finite input of shape ({m},) or NaN to hold the previous one, "
                              f"got {np.shape(u)} {arr!r:.60}")
@@ -262,14 +268,13 @@ class FilterStepper:
             log = self._logs[i]
             t_j = as_finite_number(f"{where}.t", s.t)
             self._check_sample_time(f"{where}.t", t_j, t, log.tol)
-            z = as_float_array(f"{where}.z", s.z).reshape(-1) if np.ndim(s.z) <= 1 else None
-            if z is None or z.shape != (log.sensor.dim_z,) or np.isinf(z).any():
+            z = _row(f"{where}.z", s.z)
+            if z.shape != (log.sensor.dim_z,) or np.isinf(z).any():
                 raise ValueError(f"{where}.z: expected {log.sensor.dim_z} finite values (or NaN for missing) of "
                                  f"{s.sensor!r}, got {s.z!r:.60}")
             c = None
             if log.sensor.dim_c or s.context is not None:
-                c = None if s.context is None or not log.sensor.dim_c else \
-                    as_float_array(f"{where}.context", s.context).reshape(-1)
+                c = None if s.context is None or not log.sensor.dim_c else _row(f"{where}.context", s.context)
                 if c is None or c.shape != (log.sensor.dim_c,) or np.isinf(c).any():
                     raise ValueError(f"{where}.context: expected {log.sensor.dim_c or 'no'} values (finite or NaN) "
                                      f"for {s.sensor!r}'s context_names {log.sensor.context_names}, got "
