@@ -146,16 +146,22 @@ class _Log:
         return (bad or stuck) and not duplicate, duplicate
 
     def trace(self) -> SensorTrace:
-        k, K = self.sensor.dim_z, len(self.rows)
-        innovation, S = np.full((K, k), np.nan), np.full((K, k, k), np.nan)
-        nis = np.full(K, np.nan)
-        flags = np.zeros((5, K), bool)  # used, rejected, reset, missing, duplicate
-        for j, (_, _, _, inn, missing, duplicate) in enumerate(self.rows):
-            flags[3:, j] = missing, duplicate
-            if inn is not None:
-                innovation[j], S[j], nis[j] = inn.y, inn.S, inn.nis
-                flags[:3, j] = inn.accepted, bool(inn.rejected_groups), inn.reset
-        return SensorTrace(np.array([r[0] for r in self.rows], float), innovation, S, nis, *flags)
+        k, rows = self.sensor.dim_z, self.rows
+        K = len(rows)
+        innovation, S, nis = np.full((K, k), np.nan), np.full((K, k, k), np.nan), np.full(K, np.nan)
+        used, rejected, reset = np.zeros(K, bool), np.zeros(K, bool), np.zeros(K, bool)
+        applied = [j for j, r in enumerate(rows) if r[3] is not None]
+        if applied:
+            inns = [rows[j][3] for j in applied]
+            innovation[applied] = np.array([i.y for i in inns]).reshape(-1, k)
+            S[applied] = np.array([i.S for i in inns]).reshape(-1, k, k)
+            nis[applied] = [i.nis for i in inns]
+            used[applied] = [i.accepted for i in inns]
+            rejected[applied] = [bool(i.rejected_groups) for i in inns]
+            reset[applied] = [i.reset for i in inns]
+        return SensorTrace(t=np.array([r[0] for r in rows], float), innovation=innovation, S=S, nis=nis, used=used,
+                           rejected=rejected, reset=reset, missing=np.array([r[4] for r in rows], bool),
+                           duplicate=np.array([r[5] for r in rows], bool))
 
     def measurements(self) -> Measurements:
         K, sensor = len(self.rows), self.sensor
