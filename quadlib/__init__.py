@@ -2,7 +2,8 @@
 
 The core — :mod:`~quadlib.model` (``Model``, ``Sensor``), :mod:`~quadlib.filters` and
 :mod:`~quadlib.model_filter` (the filterpy wrappers), :mod:`~quadlib.replay` (``run_filter``, the
-one loop that drives every filter), :mod:`~quadlib.samples` and :mod:`~quadlib.imu` (what a log
+one loop that drives every filter) and :mod:`~quadlib.stepper` (``FilterStepper``, its steps one at a
+time, for a closed loop), :mod:`~quadlib.samples` and :mod:`~quadlib.imu` (what a log
 holds: ``Samples``, ``Measurements``, ``ImuLog``, ``ImuNoise``) and :mod:`~quadlib.constants` —
 sits at the top. Around it, one subpackage per concern:
 
@@ -30,12 +31,13 @@ from quadlib.model import Model, Sensor
 from quadlib.model_filter import Innovation, ModelFilter
 from quadlib.replay import FilterDivergedError, FilterRun, SensorTrace, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples
+from quadlib.stepper import FilterStepper, Sample
 
 __version__ = "0.1.0"
 
-__all__ = ["FilterDivergedError", "FilterRun", "Innovation", "LinearKF", "Measurements", "Model", "ModelEKF",
-           "ModelFilter", "ModelUKF", "Samples", "Sensor", "SensorTrace", "estimate_ins", "estimate_orientation",
-           "rts_smooth", "run_filter"]
+__all__ = ["FilterDivergedError", "FilterRun", "FilterStepper", "Innovation", "LinearKF", "Measurements", "Model",
+           "ModelEKF", "ModelFilter", "ModelUKF", "Sample", "Samples", "Sensor", "SensorTrace", "estimate_ins",
+           "estimate_orientation", "rts_smooth", "run_filter"]
 
 # The two one-call estimators, for engineers: imported on first use, so that ``import quadlib``
 # stays light (they pull in the attitude and navigation subpackages).

@@ -19,99 +19,25 @@ Bad data is handled, and counted, rather than fatal:
   widened to the discrepancy, :meth:`~quadlib.model_filter.ModelFilter.inflate_toward`) and used
   again — a gate that would otherwise lock the sensor out for good.
 
-Every argument is checked before the filter is touched, so a bad log leaves it unchanged.
+Every argument is checked before the filter is touched, so a bad log leaves it unchanged. The
+readable loop is a :class:`~quadlib.stepper.FilterStepper` stepped over the log: a closed loop steps
+one itself, as its samples arrive, and gets the same steps.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import replace
 
 import numpy as np
 
 from quadlib.engine import runner
 from quadlib.model import Model
-from quadlib.model_filter import ModelFilter, group_gates
+from quadlib.model_filter import ModelFilter
 from quadlib.samples import Measurements, time_resolution
+from quadlib.stepper import FilterDivergedError, FilterRun, FilterStepper, SensorTrace, first_steps
 from quadlib.validation import as_float_array, as_probability, as_times
 
 __all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "rts_smooth", "run_filter"]
-
-
-@dataclass(frozen=True)
-class SensorTrace:
-    """What the filter did with each sample of one sensor.
-
-    Attributes
-    ----------
-    t : (K,) sample times [s]
-    innovation : (K, k) innovations; NaN where the sample was not applied
-    S : (K, k, k) innovation covariances; NaN where not applied
-    nis : (K,) normalised innovation squared; NaN where not applied
-    used : (K,) bool, the sample (or at least one of its groups) updated the state
-    rejected : (K,) bool, the gate rejected the sample or one of its groups
-    reset : (K,) bool, the sample ended a lock-out: the covariance was widened and it was used
-    missing : (K,) bool, the sample or its context was NaN
-    duplicate : (K,) bool, the sample repeated the previous timestamp and was dropped
-    """
-
-    t: np.ndarray
-    innovation: np.ndarray
-    S: np.ndarray
-    nis: np.ndarray
-    used: np.ndarray
-    rejected: np.ndarray
-    reset: np.ndarray
-    missing: np.ndarray
-    duplicate: np.ndarray
-
-
-@dataclass(frozen=True)
-class FilterRun:
-    """Result of :func:`run_filter`.
-
-    Attributes
-    ----------
-    t : (N,) times [s]
-    x : (N, n) posterior means at ``t``
-    P : (N, p, p) posterior covariances at ``t`` (over the error state for an error-state model)
-    sensors : dict of sensor name -> SensorTrace
-    held_input : (N,) bool, ``u[k]`` was NaN and the previous input was used instead
-    engine : ``"compiled"`` when the compiled engine ran it (:mod:`quadlib.engine`), else ``"readable"``
-    engine_note : why the readable loop ran when the engine was allowed to ("" otherwise)
-    layout : dict of part name -> slice (or column index) of ``x``, which the estimator attaches
-        (``estimate_orientation``: ``q``, ``gyro_bias``); each part is then an attribute, ``run.q`` is
-        ``run.x[:, layout["q"]]``. Empty for a bare :func:`run_filter`.
-    """
-
-    t: np.ndarray
-    x: np.ndarray
-    P: np.ndarray
-    sensors: dict
-    held_input: np.ndarray
-    engine: str = "readable"
-    engine_note: str = ""
-    layout: dict = field(default_factory=dict)
-
-    def __post_init__(self):
-        if not isinstance(self.layout, dict):
-            raise TypeError(f"layout: expected a dict of part name -> slice, got {type(self.layout).__name__}")
-        for name, columns in self.layout.items():
-            if not isinstance(name, str) or not name.isidentifier() or hasattr(type(self), name):
-                raise ValueError(f"layout: expected part names that are new attribute names, got {name!r}")
-            if not isinstance(columns, (slice, int)) or isinstance(columns, bool):
-                raise TypeError(f"layout[{name!r}]: expected a slice or a column index, got {columns!r}")
-
-    def __getattr__(self, name: str) -> np.ndarray:
-        # called only when ``name`` is not a field: a part of the state, by the layout
-        layout = self.__dict__.get("layout", {})
-        if name not in layout:
-            raise AttributeError(f"FilterRun has no attribute or state part {name!r} (parts: {sorted(layout)})")
-        return self.x[:, layout[name]]
-
-    @property
-    def sigma(self) -> np.ndarray:
-        """(N, p) standard deviations, the square roots of the diagonal of ``P``."""
-        return np.sqrt(np.clip(np.diagonal(self.P, axis1=1, axis2=2), 0.0, None))
 
 
 def held_inputs(model, u, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -249,73 +175,40 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None, 
     compiled = records is not None and runner.forward(filt, records, t, u, measurements, per_sensor)
     if compiled:
         xs, Ps, traces = compiled
+        sensors = {m.sensor.name: SensorTrace(t=m.t, missing=miss, duplicate=dup, **tr)
+                   for m, tr, (_, miss, dup) in zip(measurements, traces, per_sensor, strict=True)}
+        run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held, engine="compiled")
     else:
         if records is not None:
             note = ("the compiled run raised or became non-finite, so the readable loop ran "
                     "(and names the step where it fails)")
-        xs, Ps, traces = _run_readable(filt, t, u, measurements, per_sensor, gate_probability)
-    sensors = {m.sensor.name: SensorTrace(t=m.t, missing=miss, duplicate=dup, **tr)
-               for m, tr, (_, miss, dup) in zip(measurements, traces, per_sensor, strict=True)}
-    run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held,
-                    engine="compiled" if compiled else "readable", engine_note=note)
+        run = replace(_run_readable(filt, t, u, held, measurements, per_sensor, gate_probability, grid_resolution),
+                      t=t, engine_note=note)
+    xs, Ps = run.x, run.P
     bad = ~np.isfinite(xs).all(axis=1) | ~np.isfinite(Ps).all(axis=(1, 2))
     if bad.any():
         k = int(np.argmax(bad))
         raise FilterDivergedError(
             f"run_filter: the state or covariance became non-finite at t[{k}] = {t[k]:.6g} s; "
             "check the model, Q, R and the inputs (the error's .run holds the estimates before it)",
-            index=k, run=_first(run, k))
+            index=k, run=first_steps(run, k))
     return run
 
 
-def _run_readable(filt, t, u, measurements, per_sensor, gate_probability):
-    """The loop itself: every step through the filter's own predict and update."""
-    model, N = filt.model, t.shape[0]
-    traces = [dict(innovation=np.full((m.z.shape[0], m.sensor.dim_z), np.nan),
-                   S=np.full((m.z.shape[0], m.sensor.dim_z, m.sensor.dim_z), np.nan), nis=np.full(m.z.shape[0], np.nan),
-                   used=np.zeros(m.z.shape[0], bool), rejected=np.zeros(m.z.shape[0], bool),
-                   reset=np.zeros(m.z.shape[0], bool)) for m in measurements]
-    gates = [None if gate_probability is None or not m.sensor.gated else group_gates(m.sensor, gate_probability)
-             for m in measurements]
-    # Everything was validated above, so the loop uses the filter's unchecked steps
-    # and the whole trajectory is checked for non-finite values once at the end.
-    xs, Ps = np.empty((N, model.dim_x)), np.empty((N, model.dim_P, model.dim_P))
-    inputs, dts = list(u), np.diff(t).tolist()
-    steps, sensor_of, sample_of = (a.tolist() for a in _event_order(per_sensor))  # by step, sensor, sample
-    locked_since = [[None] * len(m.sensor.groups) for m in measurements]  # per sensor and group
-    e, E = 0, len(steps)
-    for k in range(N):
-        if k:
-            filt.predict_unchecked(inputs[k - 1], dts[k - 1])
-        while e < E and steps[e] == k:
-            i, j = sensor_of[e], sample_of[e]
-            m, g_i = measurements[i], gates[i]
-            sensor, z, c = m.sensor, m.z[j], None if m.context is None else m.context[j]
-            inn = filt.update_unchecked(sensor, z, g_i, c)
-            if inn.rejected_groups and sensor.reset_after_s is not None:
-                t_j = m.t[j]
-                since = locked_since[i]
-                expired = tuple(g for g in inn.rejected_groups
-                                if since[g] is not None and t_j - since[g] >= sensor.reset_after_s)
-                for g in inn.rejected_groups:
-                    since[g] = t_j if since[g] is None else since[g]
-                if expired:  # undo the partial update, widen P along the locked-out groups, use them
-                    filt.undo_last_update()
-                    filt.inflate_toward(sensor, z, expired, c)
-                    inn = filt.update_unchecked(sensor, z, g_i, c, force=expired)._replace(reset=True)
-                    for g in expired:
-                        since[g] = None
-            if g_i is not None:
-                for g in range(len(sensor.groups)):
-                    if g not in inn.rejected_groups:
-                        locked_since[i][g] = None
-            tr = traces[i]
-            tr["innovation"][j], tr["S"][j], tr["nis"][j] = inn.y, inn.S, inn.nis
-            tr["used"][j], tr["rejected"][j], tr["reset"][j] = inn.accepted, bool(inn.rejected_groups), inn.reset
-            e += 1
-        xs[k] = filt.state_view()  # copied into xs
-        Ps[k] = filt.P
-    return xs, Ps, traces
+def _run_readable(filt, t, u, held, measurements, per_sensor, gate_probability, grid_resolution) -> FilterRun:
+    """The loop itself: a :class:`~quadlib.stepper.FilterStepper` stepped over the log, given each
+    step's samples (missing and repeated ones too) and the inputs as logged (NaN rows again)."""
+    stepper = FilterStepper(filt, [m.sensor for m in measurements], gate_probability,
+                            [max(grid_resolution, m.time_resolution_s) for m in measurements])
+    by_step = [[] for _ in range(t.shape[0])]
+    for i, (m, (steps, _, _)) in enumerate(zip(measurements, per_sensor, strict=True)):
+        context = [None] * m.t.size if m.context is None else m.context
+        for k, t_j, z, c in zip(steps.tolist(), m.t.tolist(), m.z, context, strict=True):
+            by_step[k].append((i, t_j, z, c))
+    rows = list(np.where(held[:, None], np.nan, u))
+    for k, t_k in enumerate(t.tolist()):
+        stepper.advance(t_k, rows[k - 1] if k else None, by_step[k])
+    return stepper.run()
 
 
 def rts_smooth(model: Model, run: FilterRun, u, engine: str = "auto") -> FilterRun:
@@ -398,22 +291,4 @@ def _rts_compiled(model: Model, run: FilterRun, u: np.ndarray, engine: str) -> F
     if smoothed is None:
         return "the compiled backward pass raised, so the readable one ran"
     return FilterRun(t=run.t, x=smoothed[0], P=smoothed[1], sensors=run.sensors, held_input=run.held_input,
-                     engine=run.engine, engine_note=run.engine_note, layout=run.layout)
-
-
-class FilterDivergedError(FloatingPointError):
-    """The estimate became non-finite at step ``index``; ``run`` holds the steps before it."""
-
-    def __init__(self, message: str, index: int, run: FilterRun):
-        super().__init__(message)
-        self.index, self.run = index, run
-
-
-def _first(run: FilterRun, k: int) -> FilterRun:
-    """The first ``k`` steps of ``run``, with the sensor samples taken until then."""
-    traces = {}
-    for name, tr in run.sensors.items():
-        keep = tr.t < run.t[k] if k < run.t.size else np.ones(tr.t.size, bool)
-        traces[name] = SensorTrace(**{f: getattr(tr, f)[keep] for f in SensorTrace.__dataclass_fields__})
-    return FilterRun(t=run.t[:k], x=run.x[:k], P=run.P[:k], sensors=traces, held_input=run.held_input[:k],
                      engine=run.engine, engine_note=run.engine_note, layout=run.layout)

@@ -27,7 +27,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from matplotlib.figure import Figure
 
-from quadlib import LinearKF, Model, ModelEKF, ModelUKF, Samples, Sensor, rts_smooth, run_filter
+from quadlib import FilterStepper, LinearKF, Model, ModelEKF, ModelUKF, Samples, Sensor, rts_smooth, run_filter
 from quadlib.analysis import (
     angle_rmse,
     attitude_rmse,
@@ -419,6 +419,10 @@ PROBES = [
           {"filt": WRONG_TYPE, "t": BAD["times"], "u": st.sampled_from([np.zeros((4, 1)), np.zeros((5, 2)), "u"]),
            "measurements": st.sampled_from([[1.0], ["gps"], 3.0]), "gate_probability": BAD["probability"],
            "engine": st.sampled_from(["fast", 1, None, "compiled"])}),
+    Probe(FilterStepper, lambda: dict(filt=ModelEKF(_cv_model(), [0.0, 0.0], np.eye(2), 0.1),
+                                      sensors=[_position_sensor()], gate_probability=0.99),
+          {"filt": WRONG_TYPE, "sensors": st.sampled_from([[1.0], "gps", 3.0, None]),
+           "gate_probability": BAD["probability"], "time_resolution_s": BAD["positive"]}),
     Probe(rts_smooth, lambda: dict(model=_cv_model(), run=run_filter(**_run_filter_args()), u=np.zeros((5, 1))),
           {"model": _wrong_type(Model), "run": WRONG_TYPE, "u": st.sampled_from([np.zeros((4, 1)), "u"]),
            "engine": st.sampled_from(["fast", 1, None, "compiled"])}),
@@ -1180,7 +1184,7 @@ NOT_PROBED = {
     "ClimbFlight": RESULT, "OneNumberTrial": RESULT,
     "Exercise": RESULT, "Mutation": RESULT,
     "AltitudeGains": "a record of three numbers; fly and AltitudePid check them",
-    "FilterRun": RESULT,
+    "FilterRun": RESULT, "Sample": "a record of one sample; FilterStepper.step checks it",
     "Innovation": RESULT, "KestenFilter": RESULT + ": tovkf(), qkf() … build it", "Moments": RESULT,
     "MonteCarloRuns": RESULT, "Run3D": RESULT, "SensorTrace": RESULT, "VerticalRun": RESULT,
     "ModelFilter": "the abstract base of LinearKF, ModelEKF and ModelUKF (probed)",

@@ -6,7 +6,11 @@ magnetometer every 20 ms, the barometer every 40 ms, eqs. 4.13 and 4.17; the noi
 :class:`~quadlib.attitude.AttitudeNoise`), lets the estimators take those samples, asks the
 controllers for motor thrusts on the estimate, and integrates the rigid body over the period.
 The estimators are the attitude-and-gyro-bias EKF of chapters 15–16 (gyro, gravity, heading) and
-Kesten's altitude filter (chapter 14), each a :class:`~quadlib.ModelFilter` stepped sample by sample.
+Kesten's altitude filter (chapter 14), each a :class:`~quadlib.ModelFilter` stepped sample by sample
+by a :class:`~quadlib.stepper.FilterStepper`: the steps of :func:`~quadlib.replay.run_filter`, which
+replays the logged inputs and samples (``FilterStepper.log``) to the same estimates. The filters'
+time grid starts one period before the flight: at control step ``k`` each predicts with the IMU
+sample just taken, then applies the samples taken at ``t_k``.
 With ``estimator="truth"`` the controllers see the true state: perfect estimation, the baseline;
 ``"altitude"`` puts only the altitude filter in the loop.
 """
@@ -14,7 +18,7 @@ With ``estimator="truth"`` the controllers see the true state: perfect estimatio
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -33,6 +37,7 @@ from quadlib.kernels.vehicle import step as vehicle_step
 from quadlib.nav.ins import GYRO_BIAS_ERRORS, InsParams, ins_baro_sensor, ins_gps_sensor
 from quadlib.quad.flight import Flight3D
 from quadlib.sensors import gravity_sensor, heading_sensor
+from quadlib.stepper import FilterStepper, Sample
 from quadlib.validation import (
     as_finite_array,
     as_instance,
@@ -112,6 +117,7 @@ class ClosedLoopRun:
     q_est : (K, 4) the attitude the controller used
     s_ref : (K,) reference height; q_ref : (K, 4) reference attitude
     thrust_cmd : (K, 4) commanded motor thrusts [N] (before the motors' limits)
+    steppers : dict of name ("attitude", "altitude") -> the FilterStepper of each filter in the loop
     """
 
     t: np.ndarray
@@ -124,39 +130,38 @@ class ClosedLoopRun:
     s_ref: np.ndarray
     q_ref: np.ndarray
     thrust_cmd: np.ndarray
+    steppers: dict = field(default_factory=dict, repr=False, compare=False)
 
 
 class _Filters:
-    """The two estimators, stepped one IMU sample at a time."""
+    """The two estimators, stepped one IMU sample at a time from ``start_s``."""
 
-    def __init__(self, sensors: LoopSensors, X0: np.ndarray, attitude: bool):
+    def __init__(self, sensors: LoopSensors, X0: np.ndarray, attitude: bool, start_s: float):
         n, dt = sensors.noise, sensors.imu_period_s
-        self.estimates_attitude = attitude
-        model = attitude_bias_model(n.gyro_sigma_rad_s, 1e-5)
-        P0 = np.diag([0.02] * 3 + [sensors.gyro_bias_sigma_rad_s] * 3) ** 2
-        self.attitude = ModelEKF(model, np.r_[X0[6:10], 0.0, 0.0, 0.0], P0, dt)
-        self.gravity = gravity_sensor(sensors.gravity_sigma_m_s2)
-        self.heading = heading_sensor(0.05)
+        self.steppers = {}
+        if attitude:
+            model = attitude_bias_model(n.gyro_sigma_rad_s, 1e-5)
+            P0 = np.diag([0.02] * 3 + [sensors.gyro_bias_sigma_rad_s] * 3) ** 2
+            ekf = ModelEKF(model, np.r_[X0[6:10], 0.0, 0.0, 0.0], P0, dt)
+            self.steppers["attitude"] = FilterStepper(
+                ekf, [gravity_sensor(sensors.gravity_sigma_m_s2), heading_sensor(0.05)], gate_probability=0.9999)
         sigma_a = n.accel_sigma_m_s2 if sensors.altitude_accel_sigma_m_s2 is None else sensors.altitude_accel_sigma_m_s2
         altitude = altitude_model(sigma_a, sensors.altitude_weight)
-        self.altitude = LinearKF(altitude, np.array([-X0[2], 0.0, G0]), np.diag([0.5, 0.1, 0.05]) ** 2, dt)
-        self.baro = baro_altitude_sensor(sensors.baro_sigma_m)
-        self.gate = 0.9999
+        kf = LinearKF(altitude, np.array([-X0[2], 0.0, G0]), np.diag([0.5, 0.1, 0.05]) ** 2, dt)
+        self.steppers["altitude"] = FilterStepper(kf, [baro_altitude_sensor(sensors.baro_sigma_m)])
+        for stepper in self.steppers.values():
+            stepper.step(start_s)
 
-    def step(self, gyro, accel, mag, baro, dt, q_true, omega_true):
-        if self.estimates_attitude:
-            self.attitude.predict(gyro, dt)
-            self.attitude.update_sensor(self.gravity, accel, gate_probability=self.gate)
-            if mag is not None:
-                self.attitude.update_sensor(self.heading, [0.0], gate_probability=self.gate, context=mag)
-            x = self.attitude.estimate
+    def step(self, t, gyro, accel, mag, baro, q_true, omega_true):
+        attitude = self.steppers.get("attitude")
+        if attitude is not None:
+            samples = [Sample("gravity", t, accel)] + ([] if mag is None else [Sample("heading", t, [0.0], mag)])
+            x, _ = attitude.step(t, gyro, samples)
             q_hat, omega_hat = x[:4], gyro - x[4:]
         else:
             q_hat, omega_hat = q_true, omega_true
-        self.altitude.predict([-float(dcm(q_hat)[2] @ accel)], dt)  # eq. (2.67), unchecked
-        if baro is not None:
-            self.altitude.update_sensor(self.baro, [baro])
-        s = self.altitude.estimate
+        s, _ = self.steppers["altitude"].step(t, [-float(dcm(q_hat)[2] @ accel)],  # eq. (2.67)
+                                              [] if baro is None else [Sample("baro", t, [baro])])
         return s[0], s[1], q_hat, omega_hat
 
 
@@ -240,7 +245,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         if not X[6:10].any():
             raise ValueError(f"x0: expected a non-zero attitude quaternion in x0[6:10], got {X[6:10].tolist()}")
         X[6:10] = normalize(X[6:10])
-    filters = None if estimator == "truth" else _Filters(sensors, X, attitude=estimator == "filters")
+    filters = None if estimator == "truth" else _Filters(sensors, X, estimator == "filters", start_s=-dt)
     out = {k: [] for k in ("state", "height_est", "climb_est", "q_est", "s_ref", "q_ref", "thrust_cmd")}
     thrust = X[13:17].copy()
     for k in range(K):
@@ -251,7 +256,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
             s_hat, v_hat, q_hat, omega_hat = -X[2], -X[5], q, omega
         else:
             gyro, accel, mag, baro = _read_sensors(vehicle, sensors, X, thrust, k, rng)
-            s_hat, v_hat, q_hat, omega_hat = filters.step(gyro, accel, mag, baro, dt, q, omega)
+            s_hat, v_hat, q_hat, omega_hat = filters.step(t, gyro, accel, mag, baro, q, omega)
         thrust_z = altitude_pid.thrust(s_hat, v_hat, ref.s, ref.v, dt)
         thrust = attitude_pid.thrusts(thrust_z, q_hat, omega_hat, ref.q_nb, ref.omega, dt)
         for key, value in (("state", X), ("height_est", s_hat), ("climb_est", v_hat), ("q_est", q_hat),
@@ -263,7 +268,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
     return ClosedLoopRun(t=np.arange(K) * dt, state=state, height=-state[:, 2], climb=-state[:, 5],
                          height_est=np.array(out["height_est"]), climb_est=np.array(out["climb_est"]),
                          q_est=np.array(out["q_est"]), s_ref=np.array(out["s_ref"]), q_ref=np.array(out["q_ref"]),
-                         thrust_cmd=np.array(out["thrust_cmd"]))
+                         thrust_cmd=np.array(out["thrust_cmd"]), steppers={} if filters is None else filters.steppers)
 
 
 @dataclass(frozen=True)
@@ -278,6 +283,7 @@ class PathRun:
     vel_est : (K, 3) estimated velocity [m/s]
     q_est : (K, 4) estimated attitude
     thrust_cmd : (K, 4) commanded motor thrusts [N]
+    steppers : dict, ``{"ins": FilterStepper}`` with the filter in the loop (empty on the truth)
     """
 
     t: np.ndarray
@@ -287,6 +293,7 @@ class PathRun:
     vel_est: np.ndarray
     q_est: np.ndarray
     thrust_cmd: np.ndarray
+    steppers: dict = field(default_factory=dict, repr=False, compare=False)
 
 
 def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: str = "truth", rng=None,  # noqa: B008
@@ -347,33 +354,33 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
     yaw = np.unwrap(path.euler[:, 2])
     X = hover_state(params, -path.pos[0, 2], path.q_nb[0])
     X[0:3] = path.pos[0]
-    ekf = None
+    stepper = None
     if estimator == "ins":
         x0 = np.concatenate([X[6:10], X[3:6], X[0:3], np.zeros(6)])
         P0 = ins_params.initial_covariance(gps_sigma[:3], gps_sigma[3:])
         ekf = ModelEKF(ins_params.model(), x0, P0, dt)
         gps_sensor = ins_gps_sensor(gps_sigma[:3], gps_sigma[3:], use_height=False)
-        baro_sensor = ins_baro_sensor(ins_params.baro_sigma_m)
         heading = heading_sensor(ins_params.heading_sigma_rad, dim_x=16, gyro_bias_errors=GYRO_BIAS_ERRORS)
-        gate = ins_params.gate_probability
+        stepper = FilterStepper(ekf, [gps_sensor, ins_baro_sensor(ins_params.baro_sigma_m), heading],
+                                gate_probability=ins_params.gate_probability)
     out = {k: [] for k in ("state", "pos_ref", "pos_est", "vel_est", "q_est", "thrust_cmd")}
     thrust = X[13:17].copy()
     for k in range(K):
         j = k * every_path
-        if ekf is None:
+        if stepper is None:
             p_hat, v_hat, q_hat, omega_hat = X[0:3], X[3:6], X[6:10], X[10:13]
         else:
+            t = k * dt
             gyro, accel, mag, baro = _read_sensors(vehicle, sensors, X, thrust, k, rng)
-            if k:
-                ekf.predict(np.concatenate([gyro, accel]), dt)
+            samples = []
             if k % gps_every == 0:
                 fix = np.concatenate([X[0:3], X[3:6]]) + rng.standard_normal(6) * gps_sigma
-                ekf.update_sensor(gps_sensor, fix[[0, 1, 3, 4, 5]], gate_probability=gate)
+                samples.append(Sample("gps", t, fix[[0, 1, 3, 4, 5]]))
             if baro is not None:
-                ekf.update_sensor(baro_sensor, [baro], gate_probability=gate)  # heights about the origin
+                samples.append(Sample("baro", t, [baro]))  # heights about the origin
             if mag is not None:
-                ekf.update_sensor(heading, [0.0], gate_probability=gate, context=mag)
-            x = ekf.estimate
+                samples.append(Sample("heading", t, [0.0], mag))
+            x, _ = stepper.step(t, np.concatenate([gyro, accel]) if k else None, samples)
             p_hat, v_hat, q_hat, omega_hat = x[7:10], x[4:7], x[0:4], gyro - x[10:13]
         thrust = controller.thrusts(p_hat, v_hat, q_hat, omega_hat, path.pos[j], path.vel[j], path.acc[j], yaw[j],
                                     path.omega_b[j], dt)
@@ -381,4 +388,5 @@ def fly_path(path, params: QuadrotorParams = QuadrotorParams(), *, estimator: st
                            ("q_est", q_hat), ("thrust_cmd", thrust)):
             out[key].append(np.array(value, dtype=float))
         X = vehicle_step(X, thrust, dt, *vehicle)
-    return PathRun(t=np.arange(K) * dt, **{k: np.array(v) for k, v in out.items()})
+    return PathRun(t=np.arange(K) * dt, **{k: np.array(v) for k, v in out.items()},
+                   steppers={} if stepper is None else {"ins": stepper})

@@ -12,7 +12,7 @@ each range, and a PD law on the *estimate* commands the next roll:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -20,6 +20,7 @@ from quadlib.constants import G0
 from quadlib.model import Model, Sensor
 from quadlib.model_filter import ModelFilter
 from quadlib.sim.simulate import gaussian_factor
+from quadlib.stepper import FilterStepper, Sample
 from quadlib.validation import as_finite_number, as_instance, as_positive, as_rng, as_times
 
 __all__ = ["PlanarRun", "hold_distance"]
@@ -28,13 +29,15 @@ __all__ = ["PlanarRun", "hold_distance"]
 @dataclass(frozen=True)
 class PlanarRun:
     """A closed-loop 2D flight: ``t`` (N,), true states ``truth`` (N, 3), the filter's ``x`` and
-    ``sigma`` (N, 3), and the commanded roll ``roll_cmd`` (N,) [rad]."""
+    ``sigma`` (N, 3), the commanded roll ``roll_cmd`` (N,) [rad], and the ``stepper``
+    (:class:`~quadlib.stepper.FilterStepper`) that stepped the filter."""
 
     t: np.ndarray
     truth: np.ndarray
     x: np.ndarray
     sigma: np.ndarray
     roll_cmd: np.ndarray
+    stepper: FilterStepper | None = field(default=None, repr=False, compare=False)
 
 
 def hold_distance(model: Model, sensor: Sensor, filt: ModelFilter, t, x0, target_y_m: float, rng, *,
@@ -57,19 +60,21 @@ def hold_distance(model: Model, sensor: Sensor, filt: ModelFilter, t, x0, target
     k_p, k_d, max_roll = (as_positive(n, v) for n, v in (("k_p", k_p), ("k_d", k_d), ("max_roll_rad", max_roll_rad)))
     xs, sigmas, roll_cmd = np.empty_like(truth), np.empty_like(truth), np.empty(t.size)
     q_factors, r_factor = {}, gaussian_factor(sensor.R).T  # draws as rng.multivariate_normal(..., method="eigh")
+    stepper = FilterStepper(filt, [sensor])
     for k in range(t.size):
+        u = None
         if k:
             dt = float(t[k] - t[k - 1])
             u = np.array([roll_cmd[k - 1]])
             if dt not in q_factors:
                 q_factors[dt] = gaussian_factor(model.Q(dt)).T
             truth[k] = model.g(truth[k - 1], u, dt) + (rng.standard_normal((1, model.dim_x)) @ q_factors[dt])[0]
-            filt.predict(u, dt)
+        samples = []
         if k % sample_every == 0:
             z = sensor.h(truth[k]) + (rng.standard_normal((1, sensor.dim_z)) @ r_factor)[0]
-            filt.update_sensor(sensor, z)
-        est = filt.estimate
-        xs[k], sigmas[k] = est, np.sqrt(np.diag(filt.P))
+            samples = [Sample(sensor.name, t[k], z)]
+        est, P = stepper.step(t[k], u, samples)
+        xs[k], sigmas[k] = est, np.sqrt(np.diag(P))
         accel = k_p * (target - est[2]) - k_d * est[1]
         roll_cmd[k] = float(np.clip(np.arctan(accel / G0), -max_roll, max_roll))
-    return PlanarRun(t=t, truth=truth, x=xs, sigma=sigmas, roll_cmd=roll_cmd)
+    return PlanarRun(t=t, truth=truth, x=xs, sigma=sigmas, roll_cmd=roll_cmd, stepper=stepper)
