@@ -10,23 +10,14 @@ of three runs, in µs per sample, with its ratio to VQF's online cost, all measu
 from __future__ import annotations
 
 import sys
-import time
 
 import numpy as np
+from estimator_cost import best_us_per_step  # the script's own folder, benchmarks/, is on its path
 from vqf import VQF, offlineVQF
 
 from quadlib.attitude import AttitudeNoise, random_rotation
 from quadlib.attitude.orientation import estimate_orientation
 from quadlib.sim import imu_samples
-
-
-def best_us_per_sample(run, n: int, repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return 1e6 * min(times) / n
 
 
 def main(n: int = 200_001) -> None:
@@ -38,11 +29,11 @@ def main(n: int = 200_001) -> None:
     dt = float(np.median(np.diff(log.t)))
     gyr, acc, mag = (np.ascontiguousarray(a) for a in (log.gyro, log.accel, log.mag))
     rows = [
-        ("quadlib estimate_orientation, online", best_us_per_sample(lambda: estimate_orientation(log), n)),
+        ("quadlib estimate_orientation, online", best_us_per_step(lambda: estimate_orientation(log), n)),
         ("quadlib estimate_orientation, offline",
-         best_us_per_sample(lambda: estimate_orientation(log, offline=True), n)),
-        ("VQF (C++), online", best_us_per_sample(lambda: VQF(dt).updateBatch(gyr, acc, mag), n)),
-        ("VQF (C++), offline", best_us_per_sample(lambda: offlineVQF(gyr, acc, mag, dt, {}), n)),
+         best_us_per_step(lambda: estimate_orientation(log, offline=True), n)),
+        ("VQF (C++), online", best_us_per_step(lambda: VQF(dt).updateBatch(gyr, acc, mag), n)),
+        ("VQF (C++), offline", best_us_per_step(lambda: offlineVQF(gyr, acc, mag, dt, {}), n)),
     ]
     vqf_online = rows[2][1]
     print(f"{n} samples at {rate_hz:.0f} Hz")
