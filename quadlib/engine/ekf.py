@@ -129,8 +129,9 @@ def settle(m, x, e, P):
     :func:`normalized`."""
     if not m.error_state:
         return normalized(m, x + e, P)
-    if np.any(e != 0.0):
-        x = state_add(m.kinds[ADD], x, e, m.params[ADD])
+    for i in range(e.shape[0]):
+        if e[i] != 0.0:
+            return normalized(m, state_add(m.kinds[ADD], x, e, m.params[ADD]), P)
     return normalized(m, x, P)
 
 
@@ -204,7 +205,7 @@ def _correct(m, x, P, H, y, R, corrected):
             for m_ in range(n):
                 acc += H[i, m_] * PHT[m_, j]
             S[i, j] = acc
-    SI = np.array([[1.0 / S[0, 0]]]) if k == 1 else inverse(S)
+    SI = np.full((1, 1), 1.0 / S[0, 0]) if k == 1 else inverse(S)
     K = np.zeros((n, k))
     e = np.zeros(n)
     for i in range(n):
@@ -215,25 +216,31 @@ def _correct(m, x, P, H, y, R, corrected):
                     K[i, j] += PHT_ia * SI[a, j]
             for j in range(k):
                 e[i] += K[i, j] * y[j]
-    A = np.empty((n, n))  # I − K H
+    # Joseph's form (I − K H) P (I − K H)ᵀ + K R Kᵀ without forming I − K H, in O(n² k):
+    # B = P − K (H P) (H P = PHTᵀ, P symmetric), then B − (B Hᵀ) Kᵀ + (K R) Kᵀ, the upper triangle
+    B = P.copy()
     for i in range(n):
-        for j in range(n):
-            acc = 0.0
-            for a in range(k):
-                acc += K[i, a] * H[a, j]
-            A[i, j] = (1.0 if i == j else 0.0) - acc
-    AP, KR = product(A, P), product(K, R)
-    P_new = np.empty((n, n))
-    for i in range(n):  # Joseph's form (I − K H) P (I − K H)ᵀ + K R Kᵀ, symmetric: the upper triangle
-        for j in range(i, n):
-            acc = 0.0
+        if corrected[i]:
+            for j in range(n):
+                acc = 0.0
+                for a in range(k):
+                    acc += K[i, a] * PHT[j, a]
+                B[i, j] -= acc
+    BHT, KR = np.zeros((n, k)), np.zeros((n, k))
+    for i in range(n):
+        for a in range(k):
             for m_ in range(n):
-                acc += AP[i, m_] * A[j, m_]
-            acc2 = 0.0
+                BHT[i, a] += B[i, m_] * H[a, m_]
             for b in range(k):
-                acc2 += KR[i, b] * K[j, b]
-            P_new[i, j] = acc + acc2
-            P_new[j, i] = P_new[i, j]
+                KR[i, a] += K[i, b] * R[b, a]
+    P_new = np.empty((n, n))
+    for i in range(n):
+        for j in range(i, n):
+            acc = B[i, j]
+            for a in range(k):
+                acc += (KR[i, a] - BHT[i, a]) * K[j, a]
+            P_new[i, j] = acc
+            P_new[j, i] = acc
     x_new, P_new = settle(m, x, e, P_new)
     return x_new, P_new, S, SI
 

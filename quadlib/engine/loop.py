@@ -32,10 +32,11 @@ def _correct(m, sens, sig, s, x, P, z, c, rows):
 
 
 @njit(cache=True, inline="always")
-def _update(m, sens, sig, s, x, P, z, c, force):
-    """One sample: ``(x, P, y, S, nis, used, rejected groups, healthy)``; groups in ``force`` pass the gate."""
+def _update(m, sens, sig, s, x, P, z, c, force, every_row):
+    """One sample: ``(x, P, y, S, nis, used, rejected groups, healthy)``; groups in ``force`` pass the
+    gate; ``every_row`` is ``0, 1, …`` (at least the sample's length)."""
     kz, ng, group = sens.dim_z[s], sens.n_groups[s], sens.group[s]
-    x1, P1, y, S, SI, healthy = _correct(m, sens, sig, s, x, P, z, c, np.arange(kz))
+    x1, P1, y, S, SI, healthy = _correct(m, sens, sig, s, x, P, z, c, every_row[:kz])
     rejected = np.zeros(ng, np.bool_)
     if not healthy:
         return x, P, y, S, np.nan, False, rejected, False
@@ -101,6 +102,7 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
     since = np.full((n_sensors, sensors.gates.shape[1]), np.nan)  # when each group's lock-out began
     no_force = np.zeros(sensors.gates.shape[1], np.bool_)
     next_sample = np.zeros(n_sensors, np.int64)
+    every_row = np.arange(k_max)
     x, P = x0.copy(), P0.copy()
     for k in range(N):
         if k:
@@ -116,7 +118,8 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
                 j = samples.use[s, next_sample[s]]
                 next_sample[s] += 1
                 z, c = samples.z[s, j, :kz], samples.c[s, j, :sensors.dim_c[s]]
-                x1, P1, y, S, nis_j, ok, rej, healthy = _update(model, sensors, sigma, s, x, P, z, c, no_force[:ng])
+                x1, P1, y, S, nis_j, ok, rej, healthy = _update(model, sensors, sigma, s, x, P, z, c, no_force[:ng],
+                                                                 every_row)
                 if healthy and rej.any() and sensors.reset_after_s[s] > 0.0:
                     t_j = samples.t[s, j]
                     expired = np.zeros(ng, np.bool_)
@@ -128,7 +131,7 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
                     if expired.any():  # widen P along the locked-out groups and use them
                         P_wide = _widened(model, sensors, s, x, P, z, c, expired)
                         x1, P1, y, S, nis_j, ok, rej, healthy = _update(model, sensors, sigma, s, x, P_wide, z, c,
-                                                                        expired)
+                                                                        expired, every_row)
                         reset[s, j] = True
                         for g in range(ng):
                             if expired[g]:

@@ -114,7 +114,7 @@ def ukf_correct(m, sens, sig, s, x, P, z, c, rows):
         dz = residual_rows(r_kind, Z[i], z_mean, rp, rows, every)
         add_outer(S, sig.Wc[i], dz, dz)
         add_outer(Pxz, sig.Wc[i], points[i] if m.error_state else _difference(sig, points[i], x), dz)
-    SI = np.array([[1.0 / S[0, 0]]]) if r == 1 else inverse(S)
+    SI = np.full((1, 1), 1.0 / S[0, 0]) if r == 1 else inverse(S)
     K = product(Pxz, SI)
     y = residual_rows(r_kind, z, z_mean, rp, rows, every)
     e = np.zeros(P.shape[0])

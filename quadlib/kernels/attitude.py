@@ -45,9 +45,12 @@ def attitude_bias_jacobian(phi, dt):
         a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
     else:
         a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
+    K2, R = product(K, K), dcm(exp_rotvec(phi))
     G = np.eye(6)
-    G[:3, :3] = dcm(exp_rotvec(phi)).T
-    G[:3, 3:] = -dt * (np.eye(3) - a * K + b * product(K, K))
+    for i in range(3):
+        for j in range(3):
+            G[i, j] = R[j, i]
+            G[i, 3 + j] = -dt * ((1.0 if i == j else 0.0) - a * K[i, j] + b * K2[i, j])
     return G
 
 
@@ -55,7 +58,12 @@ def attitude_bias_jacobian(phi, dt):
 def saturated(u, gyro_range):
     """The gyro sample ``u`` is at its full scale (:func:`~quadlib.imu.saturated_step_variance`);
     ``gyro_range ≤ 0``: a gyro that never saturates."""
-    return gyro_range > 0.0 and np.abs(u).max() >= SATURATED * gyro_range
+    if gyro_range <= 0.0:
+        return False
+    for i in range(u.shape[0]):
+        if abs(u[i]) >= SATURATED * gyro_range:
+            return True
+    return False
 
 
 @njit(cache=True)
@@ -189,10 +197,10 @@ def normalize_quaternion(x, p):
 def normalize_quaternion_jacobian(x, p):
     """``∂(normalised x)/∂x``: ``(I − q̂ q̂ᵀ)/|q|`` on the quaternion, the identity on the rest."""
     J = np.eye(x.shape[0])
-    q = x[:4]
-    norm = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-    q_hat = q / norm
-    J[:4, :4] = (np.eye(4) - np.outer(q_hat, q_hat)) / norm
+    norm = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3])
+    for i in range(4):
+        for j in range(4):
+            J[i, j] = ((1.0 if i == j else 0.0) - (x[i] / norm) * (x[j] / norm)) / norm
     return J
 
 
@@ -235,12 +243,19 @@ def heading_only_H(x, c, p):
 
 @njit(cache=True)
 def tilt_aware_heading_H(x, c, p):
-    """The heading's full Jacobian, ``(1, n)``, ``n = p[0]``: ``−∂ψ/∂m_n · R [m_b]× · 2 Ξ(q)ᵀ``."""
-    R = dcm(x[:4])
-    m_n = R @ c
-    d_psi = np.array([-m_n[1], m_n[0], 0.0]) / (m_n[0] ** 2 + m_n[1] ** 2)
+    """The heading's full Jacobian, ``(1, n)``, ``n = p[0]``: ``−∂ψ/∂m_n · R [m_b]× · 2 Ξ(q)ᵀ``, as
+    sums (a BLAS call per small product costs more than the product)."""
+    R, Xi = dcm(x[:4]), rate_matrix(x[:4])
+    m0 = R[0, 0] * c[0] + R[0, 1] * c[1] + R[0, 2] * c[2]  # m_n = R m_b, its horizontal part
+    m1 = R[1, 0] * c[0] + R[1, 1] * c[1] + R[1, 2] * c[2]
+    h2 = m0 * m0 + m1 * m1
+    w0 = (m1 * R[0, 0] - m0 * R[1, 0]) / h2  # w = −∂ψ/∂m_n · R
+    w1 = (m1 * R[0, 1] - m0 * R[1, 1]) / h2
+    w2 = (m1 * R[0, 2] - m0 * R[1, 2]) / h2
+    v = (w1 * c[2] - w2 * c[1], w2 * c[0] - w0 * c[2], w0 * c[1] - w1 * c[0])  # w [m_b]×
     J = np.zeros((1, int(p[0])))
-    J[0, :4] = (-d_psi @ R @ skew(c)) @ (2.0 * rate_matrix(x[:4]).T)
+    for i in range(4):
+        J[0, i] = 2.0 * (v[0] * Xi[i, 0] + v[1] * Xi[i, 1] + v[2] * Xi[i, 2])
     return J
 
 

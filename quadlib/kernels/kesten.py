@@ -75,7 +75,10 @@ def nearest_orientation(z, z_hat, p):
 @njit(cache=True)
 def same_sign_quaternion(z, z_hat, p):
     """TQKF's residual: the measured quaternion's sign matched to the predicted one's, then subtracted."""
-    return (z if z @ z_hat >= 0 else -z) - z_hat
+    dot = 0.0
+    for i in range(z.shape[0]):
+        dot += z[i] * z_hat[i]
+    return (z if dot >= 0 else -z) - z_hat
 
 
 @njit(cache=True)

@@ -7,6 +7,8 @@ loop uncompiled (tested equal).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -34,7 +36,11 @@ def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
         else:
             w = (t[k] - t[k - 1]) / (tau + t[k] - t[k - 1])
             lp_g, lp_a = lp_g + w * (g - lp_g), lp_a + w * (a - lp_a)
-        calm[k] = np.linalg.norm(g - lp_g) < gyro_th and np.linalg.norm(a - lp_a) < accel_th
+        dg, da = 0.0, 0.0
+        for j in range(3):
+            dg += (g[j] - lp_g[j]) ** 2
+            da += (a[j] - lp_a[j]) ** 2
+        calm[k] = math.sqrt(dg) < gyro_th and math.sqrt(da) < accel_th
     return calm
 
 
@@ -60,13 +66,16 @@ def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
                 have_mean = False
         R = dcm(q)
         if usable[k]:
-            a_i = R @ accel[k]
+            a_i = np.empty(3)  # R a, and Rᵀ mean below, as sums: a BLAS call costs more than the product
+            for j in range(3):
+                a_i[j] = R[j, 0] * accel[k, 0] + R[j, 1] * accel[k, 1] + R[j, 2] * accel[k, 2]
             dt = abs(t[k] - t[previous]) if previous >= 0 else 0.0
             if have_mean:
                 mean = mean + dt / (tau + dt) * (a_i - mean)
             else:
                 mean, have_mean = a_i, True
         if have_mean:
-            out[k] = R.T @ mean
+            for j in range(3):
+                out[k, j] = R[0, j] * mean[0] + R[1, j] * mean[1] + R[2, j] * mean[2]
         previous = k
     return out
