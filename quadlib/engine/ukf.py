@@ -46,8 +46,9 @@ def _points(m, sig, x, P):
             points[k + 1], points[n + k + 1] = U[k], -U[k]
     else:
         points[0] = x
+        minus_U = -U  # one array for the n rows' negatives
         for k in range(n):
-            points[k + 1], points[n + k + 1] = _difference(sig, x, -U[k]), _difference(sig, x, U[k])
+            points[k + 1], points[n + k + 1] = _difference(sig, x, minus_U[k]), _difference(sig, x, U[k])
     return points, ok
 
 
