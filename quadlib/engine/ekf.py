@@ -40,7 +40,7 @@ from quadlib.engine.dispatch import (
     state_add,
     transition,
 )
-from quadlib.kernels.linalg import inverse, product
+from quadlib.kernels.linalg import inverse, product, times
 
 __all__ = ["ModelArrays", "Samples", "SensorArrays", "SigmaArrays", "ekf_correct", "ekf_predict", "rts_pass"]
 
@@ -99,16 +99,6 @@ class SigmaArrays(NamedTuple):
     scale: float
     kinds: np.ndarray
     params: np.ndarray
-
-
-@njit(cache=True, inline="always")
-def _times(A, v):
-    """``A v`` as plain loops."""
-    out = np.zeros(A.shape[0])
-    for i in range(A.shape[0]):
-        for j in range(A.shape[1]):
-            out[i] += A[i, j] * v[j]
-    return out
 
 
 @njit(cache=True, inline="always")
@@ -292,9 +282,9 @@ def rts_pass(t, u, xs, Ps, model):
         C = np.ascontiguousarray(np.linalg.solve(prior_P, FP).T)  # P Fᵀ (P⁻)⁻¹, P⁻ symmetric
         x_prior = transition(k[G_], x, u_i, dt, p[G_])
         if model.error_state:
-            x_s = state_add(k[ADD], x, _times(C, residual_x(k[DIFF], xs_s[i + 1], x_prior, p[DIFF])), p[ADD])
+            x_s = state_add(k[ADD], x, times(C, residual_x(k[DIFF], xs_s[i + 1], x_prior, p[DIFF])), p[ADD])
         else:
-            x_s = x + _times(C, xs_s[i + 1] - x_prior)
+            x_s = x + times(C, xs_s[i + 1] - x_prior)
         if k[NORM] >= 0:
             x_s = normalize(k[NORM], x_s, p[NORM])
         xs_s[i] = x_s

@@ -33,6 +33,16 @@ def product(A, B):
 
 
 @njit(cache=True)
+def times(A, v):
+    """``A v`` as plain loops (``A.T`` passes without a copy)."""
+    out = np.zeros(A.shape[0])
+    for i in range(A.shape[0]):
+        for j in range(A.shape[1]):
+            out[i] += A[i, j] * v[j]
+    return out
+
+
+@njit(cache=True)
 def add_outer(A, w, a, b):
     """``A += w aᵀb`` in place, each term ``w (aᵢ bⱼ)`` as ``w * np.outer(a, b)`` gives it, without the
     two temporary arrays (a UKF sums one per sigma point)."""

@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.kernels import called_from_python
+from quadlib.kernels.linalg import times
 from quadlib.kernels.quaternion import dcm, exp_rotvec, multiply
 
 __all__: list[str] = []  # internal: orientation.py is the interface
@@ -66,16 +67,13 @@ def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
                 have_mean = False
         R = dcm(q)
         if usable[k]:
-            a_i = np.empty(3)  # R a, and Rᵀ mean below, as sums: a BLAS call costs more than the product
-            for j in range(3):
-                a_i[j] = R[j, 0] * accel[k, 0] + R[j, 1] * accel[k, 1] + R[j, 2] * accel[k, 2]
+            a_i = times(R, accel[k])  # sums: a BLAS call costs more than a 3×3 product
             dt = abs(t[k] - t[previous]) if previous >= 0 else 0.0
             if have_mean:
                 mean = mean + dt / (tau + dt) * (a_i - mean)
             else:
                 mean, have_mean = a_i, True
         if have_mean:
-            for j in range(3):
-                out[k, j] = R[0, j] * mean[0] + R[1, j] * mean[1] + R[2, j] * mean[2]
+            out[k] = times(R.T, mean)
         previous = k
     return out
