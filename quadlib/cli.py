@@ -77,27 +77,37 @@ def reference_at(reference: Samples, t: np.ndarray) -> np.ndarray:
     return out
 
 
+def log_declination(imu, flight) -> tuple[float, str]:
+    """``(declination_rad, where it came from)`` when none is given: the log's ``EKF2_MAG_DECL``,
+    else the World Magnetic Model's at the log's first GPS fix and its date, else 0 (with a warning
+    when there is a magnetometer: the heading is then magnetic)."""
+    if flight is not None and flight.mag_declination_rad is not None:
+        return flight.mag_declination_rad, "the log's EKF2_MAG_DECL"
+    if flight is not None and flight.model_declination_rad is not None:
+        return flight.model_declination_rad, "the World Magnetic Model at the first GPS fix"
+    if imu.mag is not None and np.isfinite(imu.mag).any():
+        warnings.warn("no declination given and none in the log: the heading is magnetic "
+                      "(pass --declination DEG for true north)", stacklevel=3)
+    return 0.0, "none known: magnetic north"
+
+
 def estimate(imu, flight, *, offline: bool, declination_rad: float | None):
-    """``(run, kind, declination_rad)``: the filter run, ``"ins"`` or ``"orientation"``, the
-    declination used."""
+    """``(run, kind, declination_rad, source)``: the filter run, ``"ins"`` or ``"orientation"``, the
+    declination used and where it came from (:func:`log_declination` when ``declination_rad`` is None)."""
     from quadlib.attitude import OrientationParams, orientation_run
     from quadlib.nav import InsParams, estimate_ins
 
+    source = "given"
     if declination_rad is None:
-        declination_rad = flight.mag_declination_rad if flight is not None else None
-        if declination_rad is None:
-            declination_rad = 0.0
-            if imu.mag is not None and np.isfinite(imu.mag).any():
-                warnings.warn("no declination given and none in the log: the heading is magnetic "
-                              "(pass --declination DEG for true north)", stacklevel=2)
+        declination_rad, source = log_declination(imu, flight)
     if flight is not None and flight.gps is not None:
         params = InsParams()
         if flight.gps_delay_s is not None:
             params = replace(params, gps_delay_s=flight.gps_delay_s)
         run = estimate_ins(imu, flight.gps, flight.baro, params, offline=offline, declination_rad=declination_rad)
-        return run, "ins", declination_rad
+        return run, "ins", declination_rad, source
     return orientation_run(imu, OrientationParams(), offline=offline, declination_rad=declination_rad), \
-        "orientation", declination_rad
+        "orientation", declination_rad, source
 
 
 def table(run, kind: str) -> tuple[list[str], np.ndarray]:
@@ -180,7 +190,8 @@ def main(argv: list[str] | None = None) -> int:
     est.add_argument("log", type=Path, help=".ulg, .px4log, .hdf5 (BROAD) or .csv")
     est.add_argument("--offline", action="store_true", help="smooth with the backward pass (post-flight)")
     est.add_argument("--declination", type=float, default=None, metavar="DEG",
-                     help="magnetic declination, east of true north [deg] (default: the log's EKF2_MAG_DECL, else 0)")
+                     help="magnetic declination, east of true north [deg] (default: the log's EKF2_MAG_DECL, else "
+                          "the World Magnetic Model's at the first GPS fix, else 0)")
     est.add_argument("--out", type=Path, default=Path("estimates.csv"), help="CSV to write (default estimates.csv)")
     est.add_argument("--plot", type=Path, default=None, metavar="PNG", help="figure to write")
     args = parser.parse_args(argv)
@@ -193,7 +204,7 @@ def main(argv: list[str] | None = None) -> int:
         next(steps)
         imu, flight, reference = read_log(args.log)
         next(steps)
-        run, kind, declination = estimate(imu, flight, offline=args.offline, declination_rad=declination)
+        run, kind, declination, source = estimate(imu, flight, offline=args.offline, declination_rad=declination)
         next(steps)
     except (FileNotFoundError, ValueError, TypeError) as err:
         print(f"error: {err}", file=sys.stderr)
@@ -201,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
     names, rows = table(run, kind)
     np.savetxt(args.out, rows, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
     print(f"{args.log.name}: {len(imu)} IMU samples over {imu.t[-1] - imu.t[0]:.1f} s, {kind} filter"
-          f"{' (smoothed)' if args.offline else ''}, declination {np.degrees(declination):.2f}°")
+          f"{' (smoothed)' if args.offline else ''}, declination {np.degrees(declination):.2f}° ({source})")
     for line in compare(run, kind, reference, flight):
         print(line)
     print(f"wrote {args.out}")

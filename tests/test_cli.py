@@ -44,6 +44,16 @@ def test_a_ulog_with_gps_gets_the_ins_and_its_position_columns(tmp_path, capsys)
     assert np.isfinite(rows).all()
 
 
+def test_a_log_without_a_declination_takes_the_field_models_at_its_first_fix(tmp_path, capsys):
+    """The 2015 px4log logs no declination: the World Magnetic Model's −4.08° at its first fix
+    brings the attitude from 6.6° RMS off the autopilot's (magnetic north taken as true) to 3.6°; the
+    rest is mostly the autopilot's own north, about 2° further west (chapter 17 measures it)."""
+    assert main(["estimate", str(data_path("px4/01_07_59.px4log")), "--out", str(tmp_path / "e.csv")]) == 0
+    printed = capsys.readouterr().out
+    assert "declination -4.08° (the World Magnetic Model at the first GPS fix)" in printed
+    assert float(printed.split("reference: ")[1].split("°")[0]) < 4.0
+
+
 def test_a_csv_of_broads_raw_arrays_gives_what_the_loaded_trial_gives(tmp_path):
     import h5py
 

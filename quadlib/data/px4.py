@@ -39,6 +39,7 @@ reference point, which is moved to this log's origin so the two can be compared.
 
 from __future__ import annotations
 
+import datetime
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -47,6 +48,7 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.data.paths import KNOWN_FILES, SOURCES, DataCorruptError, data_path
+from quadlib.geomag import model_declination_rad
 from quadlib.geometry.geodetic import geodetic_to_ned
 from quadlib.geometry.quaternion import quat_from_euler
 from quadlib.imu import ImuLog
@@ -86,6 +88,8 @@ class FlightLog:
         where the log has them.
     parameters : dict
         The autopilot's parameters at the start of the log, by name (empty where the log has none).
+    start_utc : datetime.datetime or None
+        The UTC time of the first 3D fix, where the GPS gives one.
     """
 
     name: str
@@ -98,6 +102,7 @@ class FlightLog:
     position: Samples | None
     position_accuracy: Samples | None = None
     parameters: dict = field(default_factory=dict)
+    start_utc: datetime.datetime | None = None
 
     @property
     def mag_declination_rad(self) -> float | None:
@@ -109,6 +114,14 @@ class FlightLog:
         from the same site."""
         value = self.parameters.get("EKF2_MAG_DECL")
         return None if value is None else float(np.radians(value))
+
+    @property
+    def model_declination_rad(self) -> float | None:
+        """The World Magnetic Model's declination [rad] at the first fix (``origin``) on its date
+        (``start_utc``), or None without them (:func:`~quadlib.geomag.model_declination_rad`)."""
+        if self.origin is None or self.start_utc is None:
+            return None
+        return model_declination_rad(*self.origin, self.start_utc)
 
     @property
     def gps_delay_s(self) -> float | None:
@@ -218,13 +231,14 @@ def load_px4_log(log: str | os.PathLike = "px4/01_07_59.px4log") -> FlightLog:
         ok = ~np.isnan(alt)
         baro = Samples(times("SENS")[ok] - t0, alt[ok])
 
-    gps = quality = origin = position = accuracy = None
+    gps = quality = origin = position = accuracy = start_utc = None
     if rows["GPS"]:
         g = col("GPS", "GPSTime", "Fix", "Lat", "Lon", "Alt", "VelN", "VelE", "VelD", "EPH", "EPV", "nSat")
         new = np.r_[True, np.any(np.diff(g[:, 2:8], axis=0) != 0, axis=1)] & (g[:, 1] >= 3)
         g, tg = g[new], times("GPS")[new] - t0
         if g.shape[0]:
             origin = g[0, 2:5].copy()
+            start_utc = _utc(g[0, 0])
             gps = Samples(tg, np.column_stack([geodetic_to_ned(g[:, 2:5], origin), g[:, 5:8]]))
             quality = Samples(tg, g[:, 8:11])
             if rows["LPOS"]:
@@ -233,7 +247,15 @@ def load_px4_log(log: str | os.PathLike = "px4/01_07_59.px4log") -> FlightLog:
                 position = Samples(times("LPOS") - t0, np.column_stack([pos, lp[:, 3:6]]))
                 accuracy = Samples(times("LPOS") - t0, lp[:, 8:10])
     return FlightLog(name=path.name, imu=imu, baro=baro, gps=gps, gps_quality=quality, origin=origin,
-                     attitude=attitude, position=position, position_accuracy=accuracy, parameters=parameters)
+                     attitude=attitude, position=position, position_accuracy=accuracy, parameters=parameters,
+                     start_utc=start_utc)
+
+
+def _utc(microseconds) -> datetime.datetime | None:
+    """A GPS receiver's UTC time [µs since 1970] as a datetime; None where it is not known (0)."""
+    if not microseconds > 0:
+        return None
+    return datetime.datetime.fromtimestamp(float(microseconds) * 1e-6, datetime.UTC)
 
 
 _ULOG_TOPICS = ["sensor_combined", "vehicle_attitude", "vehicle_magnetometer", "sensor_mag", "vehicle_air_data",
@@ -338,11 +360,14 @@ def load_ulog(log: str | os.PathLike = "px4/sample.ulg") -> FlightLog:
     va = topics["vehicle_attitude"]
     attitude = Samples(seconds(_sample_times_us(va)), vec(va, "q", 4))
 
-    gps = quality = origin = position = accuracy = None
+    gps = quality = origin = position = accuracy = start_utc = None
     g = topics.get("vehicle_gps_position", topics.get("sensor_gps"))
     if g is not None:
         fix = np.asarray(g["fix_type"]) >= 3
         if fix.any():
+            if "time_utc_usec" in g:
+                utc = np.asarray(g["time_utc_usec"], dtype=np.int64)[fix]
+                start_utc = _utc(utc[np.argmax(utc > 0)])
             if "latitude_deg" in g:  # PX4 v1.14 and later
                 lla = _columns(g, "latitude_deg", "longitude_deg", "altitude_msl_m")
             else:
@@ -364,4 +389,5 @@ def load_ulog(log: str | os.PathLike = "px4/sample.ulg") -> FlightLog:
             accuracy = Samples(tp, _columns(lp, "eph", "epv")[ok])
     parameters = {name: float(value) for name, value in ulog.initial_parameters.items()}
     return FlightLog(name=path.name, imu=imu, baro=baro, gps=gps, gps_quality=quality, origin=origin,
-                     attitude=attitude, position=position, position_accuracy=accuracy, parameters=parameters)
+                     attitude=attitude, position=position, position_accuracy=accuracy, parameters=parameters,
+                     start_utc=start_utc)

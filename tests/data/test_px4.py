@@ -93,6 +93,16 @@ def test_a_current_px4_ulog_loads_every_sensor():
     assert HANDHELD.mag_declination_rad is None and HANDHELD.gps_delay_s is None and HANDHELD.gps_rate_hz is None
 
 
+def test_the_first_fix_dates_the_log_and_places_its_declination():
+    """The GPS's UTC time of the first 3D fix; the World Magnetic Model's declination there (the
+    2015 flight's autopilot looked its own up, ATT_MAG_DECL_A, and logged none)."""
+    assert FLIGHT.start_utc.isoformat(timespec="seconds") == "2015-06-11T01:07:59+00:00"
+    assert FLIGHT.parameters["ATT_MAG_DECL_A"] == 1 and FLIGHT.mag_declination_rad is None
+    assert np.degrees(FLIGHT.model_declination_rad) == pytest.approx(-4.08, abs=0.01)
+    assert CURRENT.start_utc.date().isoformat() == "2024-03-18"
+    assert HANDHELD.start_utc is None and HANDHELD.model_declination_rad is None  # no GPS
+
+
 def test_the_raw_sensor_topics_stand_in_for_the_vehicle_ones(monkeypatch):
     from quadlib.data import px4
 
