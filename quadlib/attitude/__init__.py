@@ -21,7 +21,7 @@ from .bias_model import (
     normalize_attitude_jacobian,
     quaternion_rate_matrix,
 )
-from .checks import SensorChecks, plausible_accel, plausible_mag
+from .checks import SensorChecks, plausible_accel, plausible_mag, undisturbed_field
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
 from .orientation import OrientationParams, estimate_orientation, orientation_run, rest_mask
@@ -57,6 +57,7 @@ __all__ = [
     "normalize_attitude_jacobian",
     "plausible_accel",
     "plausible_mag",
+    "undisturbed_field",
     "pressure_from_altitude",
     "qf",
     "qkf",

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from quadlib.attitude.bias_model import LAYOUT, attitude_bias_model
-from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled
+from quadlib.attitude.checks import SensorChecks, plausible_accel, undisturbed_field
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
@@ -92,6 +92,14 @@ class OrientationParams:
         After a field sample fails its checks, the magnetometer is trusted again only once its
         samples have passed them for this long [s] (VQF's 0.5 s, ``magMinUndisturbedTime``): a
         magnet moving away passes through plausible readings on its way. None: trusted at once.
+    mag_check_tau_s : float
+        The field's norm and dip are checked on a first-order low-pass of this time constant [s]
+        (VQF's 0.05 s), not reading by reading: a noisy magnetometer's single readings stray past
+        the tolerances (:func:`~quadlib.attitude.checks.undisturbed_field`).
+    mag_reference_tau_s : float or None
+        While the field is trusted, the norm and dip it is checked against follow it with this time
+        constant [s] (VQF's 20 s, ``magRefTau``): the Earth's field differs from room to room. None:
+        the first reading's field throughout.
     rest_gyro_rad_s, rest_accel_m_s2 : float
         At rest when neither the gyro nor the accelerometer strays further than these from its own
         low-pass (:func:`rest_mask`, VQF's thresholds: 2 °/s, 0.5 m/s²) ...
@@ -112,6 +120,8 @@ class OrientationParams:
     gyro_gap_accel_rad_s2: float | None = 100.0
     accel_tau_s: float | None = 1.5
     mag_settle_s: float | None = 0.5
+    mag_check_tau_s: float = 0.05
+    mag_reference_tau_s: float | None = 20.0
     rest_gyro_rad_s: float = float(np.radians(2.0))
     rest_accel_m_s2: float = 0.5
     rest_min_s: float | None = 1.5
@@ -123,7 +133,8 @@ class OrientationParams:
                             "gate_probability": "optional probability",
                             "gyro_range_rad_s": "optional positive",
                             "gyro_gap_accel_rad_s2": "optional positive", "accel_tau_s": "optional positive",
-                            "mag_settle_s": "optional positive", "rest_gyro_rad_s": "positive",
+                            "mag_settle_s": "optional positive", "mag_check_tau_s": "positive",
+                            "mag_reference_tau_s": "optional positive", "rest_gyro_rad_s": "positive",
                             "rest_accel_m_s2": "positive", "rest_min_s": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
@@ -340,9 +351,10 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
     q0, field_n = _initial_attitude(log, declination_rad)
     has_mag = field_n is not None
     if has_mag:
-        good_m = plausible_mag(log.mag, gravity, field_n, checks, q_nb=attitude)
-        if params.mag_settle_s is not None:
-            good_m = settled(good_m, np.isfinite(log.mag).all(axis=1), log.t, params.mag_settle_s)
+        down = -accel / np.linalg.norm(accel, axis=1, keepdims=True) if attitude is None else \
+            quat_to_dcm(attitude)[:, 2, :]  # NED's down in the body frame: the third row of R(q)
+        good_m = undisturbed_field(log.t, log.mag, down, field_n, checks, settle_s=params.mag_settle_s or 0.0,
+                                   tau_s=params.mag_check_tau_s, learn_tau_s=params.mag_reference_tau_s)
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
     model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,

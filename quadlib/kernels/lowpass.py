@@ -1,8 +1,9 @@
-"""The low-passes of rest detection and of the accelerometer, compiled.
+"""The low-passes of rest detection, of the accelerometer and of the magnetometer's checks, compiled.
 
-Their readable descriptions are :func:`~quadlib.attitude.orientation.rest_mask` and
-:func:`~quadlib.attitude.orientation.inertial_lowpass`, which call them; ``py_func`` is each
-loop uncompiled (tested equal).
+Their readable descriptions are :func:`~quadlib.attitude.orientation.rest_mask`,
+:func:`~quadlib.attitude.orientation.inertial_lowpass` and
+:func:`~quadlib.attitude.checks.undisturbed_field`, which call them; ``py_func`` is each loop
+uncompiled (tested equal).
 """
 
 from __future__ import annotations
@@ -77,3 +78,42 @@ def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
             out[k] = times(R.T, mean)
         previous = k
     return out
+
+
+@called_from_python
+@njit(cache=True)
+def undisturbed_field_pass(t, mag, down, ref_norm, ref_dip, norm_tol, dip_tol, settle_s, tau, learn_tau):
+    """:func:`~quadlib.attitude.checks.undisturbed_field`: the norm and dip low-passed (``tau``),
+    checked against a reference that follows them (``learn_tau``) while the field is trusted."""
+    n = t.shape[0]
+    ok = np.zeros(n, np.bool_)
+    norm_lp, dip_lp, last = 0.0, 0.0, -1
+    calm, calm_since = True, -np.inf  # trusted from the start until a reading fails
+    for k in range(n):
+        m, d = mag[k], down[k]
+        norm = math.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
+        if not norm > 0.0:  # NaN or zero: no reading
+            continue
+        dip_known = not np.isnan(d).any()
+        dip = math.asin(min(1.0, max(-1.0, (m[0] * d[0] + m[1] * d[1] + m[2] * d[2]) / norm))) if dip_known else 0.0
+        step = t[k] - t[last] if last >= 0 else 0.0
+        if last < 0:
+            norm_lp, dip_lp = norm, dip
+        else:
+            w = step / (tau + step)
+            norm_lp += w * (norm - norm_lp)
+            if dip_known:
+                dip_lp += w * (dip - dip_lp)
+        last = k
+        if abs(norm_lp / ref_norm - 1.0) <= norm_tol and (not dip_known or abs(dip_lp - ref_dip) <= dip_tol):
+            if not calm:
+                calm, calm_since = True, t[k]
+        else:
+            calm = False
+        ok[k] = calm and t[k] - calm_since >= settle_s
+        if ok[k]:
+            w = step / (learn_tau + step)
+            ref_norm += w * (norm_lp - ref_norm)
+            if dip_known:
+                ref_dip += w * (dip_lp - ref_dip)
+    return ok

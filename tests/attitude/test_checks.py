@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from quadlib.analysis.metrics import attitude_error
-from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled
+from quadlib.attitude.checks import SensorChecks, plausible_accel, plausible_mag, settled, undisturbed_field
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.tumble import random_rotation
 from quadlib.imu import ImuLog
+from quadlib.kernels.lowpass import undisturbed_field_pass
 from quadlib.sim.imu import imu_samples
 
 NOISE = AttitudeNoise()
@@ -96,3 +97,46 @@ def test_a_stream_is_trusted_again_only_once_it_has_settled():
     assert settled(ok, present, t, 0.45).tolist() == [bool(e) for e in expected]
     with pytest.raises(ValueError, match="present: expected a bool array of shape"):
         settled(ok, present[:-1], t, 0.5)
+
+
+def _level_field_readings(n, rng, dip_noise_deg):
+    """A level sensor's field readings (body = NED), 100 Hz: 50 units at 60° dip, each reading's
+    direction scattered by about ``dip_noise_deg``."""
+    t = np.arange(n) * 0.01
+    dip = np.radians(60.0 + dip_noise_deg * rng.standard_normal(n))
+    mag = 50.0 * np.column_stack([np.cos(dip), np.zeros(n), np.sin(dip)])
+    return t, mag, np.tile([0.0, 0.0, 1.0], (n, 1)), np.array([25.0, 0.0, 50.0 * np.sin(np.radians(60.0))])
+
+
+def test_noisy_readings_are_judged_on_their_average_and_a_magnet_on_its_own():
+    """Readings whose dip scatters by 6°: reading by reading, a 10° tolerance refuses about one in
+    ten, and the settle time after each, most of them; averaged over 0.05 s, none. A magnet that
+    doubles the norm for a second is refused from its second reading on (the first moves the
+    average only a sixth of the way), and the field trusted again 0.5 s after it has gone."""
+    t, mag, down, field = _level_field_readings(3000, np.random.default_rng(1), 6.0)
+    field = field / np.linalg.norm(field) * 50.0
+    magnet = (t >= 10.0) & (t < 11.0)
+    mag[magnet] *= 2.0
+    one_by_one = settled(plausible_mag(mag, -9.81 * down, field, SensorChecks()), np.ones(t.size, bool), t, 0.5)
+    ok = undisturbed_field(t, mag, down, field, SensorChecks(), settle_s=0.5)
+    quiet = ~magnet & ((t < 9.5) | (t > 12.0))
+    assert one_by_one[quiet].mean() < 0.2 and ok[quiet].all()
+    assert ok[magnet].sum() == 1 and ok[magnet][0] and not ok[(t >= 11.0) & (t < 11.45)].any() and ok[(t > 11.6)].all()
+    lowpass = undisturbed_field_pass.py_func(t, mag, down, 50.0, np.radians(60.0), 0.2, np.radians(10.0), 0.5, 0.05,
+                                             20.0)
+    np.testing.assert_array_equal(lowpass, undisturbed_field_pass(t, mag, down, 50.0, np.radians(60.0), 0.2,
+                                                                  np.radians(10.0), 0.5, 0.05, 20.0))
+
+
+def test_the_reference_follows_a_field_that_changes_slowly():
+    """The field's norm grows by 30 % over 100 s (another part of a room): the learnt reference
+    follows it; the first reading's, within 20 %, refuses the last third."""
+    t, mag, down, field = _level_field_readings(10_000, np.random.default_rng(2), 0.5)
+    field = field / np.linalg.norm(field) * 50.0
+    mag *= (1.0 + 0.3 * t / t[-1])[:, None]
+    learnt = undisturbed_field(t, mag, down, field, SensorChecks(), settle_s=0.5)
+    fixed = undisturbed_field(t, mag, down, field, SensorChecks(), settle_s=0.5, learn_tau_s=None)
+    assert learnt.all()
+    assert fixed[t < 60.0].all() and not fixed[t > 70.0].any()
+    with pytest.raises(ValueError, match="down: expected an \\(N, 3\\) array"):
+        undisturbed_field(t, mag, down[:, :2], field, SensorChecks())
