@@ -159,11 +159,12 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     (Laidig & Seel 2023), the norm and the dip are first low-passed (first order, ``tau_s``), then
     checked with the tolerances of ``checks`` against a reference: ``field_n`` at the start, which
     then follows the averaged field (``learn_tau_s``; None: it stays) while the field is trusted,
-    as the Earth's field changes from place to place. The dip is measured against ``down`` ((N, 3), the down direction
-    in the body frame, a unit vector per reading; NaN rows: unknown, the dip not checked). A
-    reading is trusted once the checks have passed for ``settle_s`` seconds (from the start they
-    pass); stuck readings never are. The average lets the first reading or two of a sudden
-    disturbance through, until it crosses the tolerance.
+    as the Earth's field changes from place to place (``tau_s`` 0 and ``learn_tau_s`` None: each
+    reading judged alone against ``field_n``, as :func:`plausible_mag` does). The dip is measured
+    against ``down`` ((N, 3), the down direction in the body frame, a unit vector per reading; NaN
+    rows: unknown, the dip not checked). A reading is trusted once the checks have passed for
+    ``settle_s`` seconds (from the start they pass); stuck readings never are. The average lets
+    the first reading or two of a sudden disturbance through, until it crosses the tolerance.
     """
     checks = as_instance("checks", checks, SensorChecks)
     t = as_times("t", t)
@@ -173,7 +174,7 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
         raise ValueError(f"mag, down: expected one row per time, shape {(t.size, 3)}, got {m.shape} and {d.shape}")
     field = as_vectors3("field_n", field_n)
     settle_s = 0.0 if settle_s == 0.0 else as_positive("settle_s", settle_s)
-    tau = as_positive("tau_s", tau_s)
+    tau = 0.0 if tau_s == 0.0 else as_positive("tau_s", tau_s)
     learn = np.inf if learn_tau_s is None else as_positive("learn_tau_s", learn_tau_s)
     strength = float(np.linalg.norm(field))
     norm_tol = np.inf if checks.mag_norm_tolerance is None else checks.mag_norm_tolerance

@@ -100,7 +100,7 @@ def undisturbed_field_pass(t, mag, down, ref_norm, ref_dip, norm_tol, dip_tol, s
         if last < 0:
             norm_lp, dip_lp = norm, dip
         else:
-            w = step / (tau + step)
+            w = 1.0 if tau == 0.0 else step / (tau + step)  # tau 0: each reading alone
             norm_lp += w * (norm - norm_lp)
             if dip_known:
                 dip_lp += w * (dip - dip_lp)
