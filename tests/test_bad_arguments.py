@@ -988,7 +988,8 @@ PROBES += [
                                           field_n=[0.2, 0.0, 0.4], checks=SensorChecks()),
           {"t": st.sampled_from([[0.0, 0.0], [0.0], "t"]), "mag": st.sampled_from([np.zeros((2, 2)), "m"]),
            "down": st.sampled_from([np.zeros((3, 3)), np.zeros((2, 2)), "d"]), "field_n": BAD["vector3"],
-           "checks": WRONG_TYPE, "settle_s": st.sampled_from([-1.0, NAN, "1"]), "tau_s": POS,
+           "checks": WRONG_TYPE, "settle_s": st.sampled_from([-1.0, NAN, "1"]),
+           "tau_s": st.sampled_from([-1.0, NAN, INF, "0.05"]),  # 0 is allowed: each reading alone
            "learn_tau_s": st.sampled_from([-1.0, 0.0, NAN, "2"])}),
     Probe(vertical_specific_force, lambda: dict(q_nb=Q1, f_b=[0.0, 0.0, -9.8]),
           {"q_nb": BAD["unit quaternion"], "f_b": BAD["vector3"]}),

@@ -173,8 +173,8 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     if m.shape[0] != t.size or d.shape[0] != t.size:
         raise ValueError(f"mag, down: expected one row per time, shape {(t.size, 3)}, got {m.shape} and {d.shape}")
     field = as_vectors3("field_n", field_n)
-    settle_s = 0.0 if settle_s == 0.0 else as_positive("settle_s", settle_s)
-    tau = 0.0 if tau_s == 0.0 else as_positive("tau_s", tau_s)
+    settle_s = as_positive("settle_s", settle_s, allow_zero=True)
+    tau = as_positive("tau_s", tau_s, allow_zero=True)
     learn = np.inf if learn_tau_s is None else as_positive("learn_tau_s", learn_tau_s)
     strength = float(np.linalg.norm(field))
     norm_tol = np.inf if checks.mag_norm_tolerance is None else checks.mag_norm_tolerance
