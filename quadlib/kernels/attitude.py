@@ -280,8 +280,12 @@ def linear_map_H(x, c, p):
 
 @njit(cache=True)
 def wrapped_difference(z, z_hat, p):
-    """``z − ẑ`` wrapped to (−π, π] (an angle's residual)."""
-    return wrap(z - z_hat)
+    """``z − ẑ`` wrapped to (−π, π] (an angle's residual), element by element: the array form builds
+    three temporaries, and a UKF calls it once per sigma point."""
+    out = np.empty(z.shape[0])
+    for i in range(z.shape[0]):
+        out[i] = wrap(z[i] - z_hat[i])
+    return out
 
 
 @njit(cache=True)
