@@ -135,7 +135,6 @@ from quadlib.fixedwing import (
     salmony_ekf,
 )
 from quadlib.fixedwing.sim import FixedWingFlight
-from quadlib.geomag import model_declination_rad
 from quadlib.geometry import (
     as_unit_quaternions,
     attitude_from_accel_mag,
@@ -147,6 +146,7 @@ from quadlib.geometry import (
     geodetic_to_ecef,
     geodetic_to_ned,
     integrate_body_rate_linear,
+    model_declination_rad,
     quat_canonical,
     quat_conjugate,
     quaternion,
@@ -774,10 +774,8 @@ PROBES = [
     Probe(load_ulog, lambda: dict(log="px4/sample.ulg"),
           {"log": st.sampled_from([None, 3.0, "px4/01_07_59.px4log"])}),
     Probe(model_declination_rad,
-          lambda: dict(latitude_deg=40.0, longitude_deg=-86.0, altitude_m=200.0,
-                       when=datetime.datetime(2020, 1, 1, tzinfo=datetime.UTC)),
-          {"latitude_deg": st.sampled_from([91.0, NAN, "north"]), "longitude_deg": st.sampled_from([181.0, INF, None]),
-           "altitude_m": st.sampled_from([NAN, None]),
+          lambda: dict(lla=[40.0, -86.0, 200.0], when=datetime.datetime(2020, 1, 1, tzinfo=datetime.UTC)),
+          {"lla": st.sampled_from([[91.0, 0.0, 0.0], [0.0, 181.0, 0.0], [NAN, 0.0, 0.0], [40.0, -86.0], "p"]),
            "when": st.sampled_from([2020.0, None, datetime.datetime(2031, 1, 1, tzinfo=datetime.UTC)])}),
     Probe(geodetic_to_ned, lambda: dict(lla=[40.0, -86.0, 200.0], origin=[40.0, -86.0, 200.0]),
           {"lla": st.sampled_from([[40.0, -86.0], [91.0, 0.0, 0.0], [0.0, 181.0, 0.0], [NAN, 0.0, 0.0], "p"]),

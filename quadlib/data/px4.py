@@ -48,8 +48,7 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.data.paths import KNOWN_FILES, SOURCES, DataCorruptError, data_path
-from quadlib.geomag import model_declination_rad
-from quadlib.geometry.geodetic import geodetic_to_ned
+from quadlib.geometry.geodetic import geodetic_to_ned, model_declination_rad
 from quadlib.geometry.quaternion import quat_from_euler
 from quadlib.imu import ImuLog
 from quadlib.samples import Samples
@@ -118,10 +117,10 @@ class FlightLog:
     @property
     def model_declination_rad(self) -> float | None:
         """The World Magnetic Model's declination [rad] at the first fix (``origin``) on its date
-        (``start_utc``), or None without them (:func:`~quadlib.geomag.model_declination_rad`)."""
+        (``start_utc``), or None without them (:func:`~quadlib.geometry.model_declination_rad`)."""
         if self.origin is None or self.start_utc is None:
             return None
-        return model_declination_rad(*self.origin, self.start_utc)
+        return model_declination_rad(self.origin, self.start_utc)
 
     @property
     def gps_delay_s(self) -> float | None:

@@ -1,6 +1,6 @@
 """Rotations: quaternions, rotation matrices and Euler angles, attitude from vector measurements."""
 
-from .geodetic import geodetic_to_ecef, geodetic_to_ned
+from .geodetic import geodetic_to_ecef, geodetic_to_ned, model_declination_rad
 from .quaternion import (
     UNIT_TOLERANCE,
     as_unit_quaternions,
@@ -60,6 +60,7 @@ __all__ = [
     "integrate_body_rate",
     "integrate_body_rate_linear",
     "mag_heading",
+    "model_declination_rad",
     "quat_canonical",
     "quat_conjugate",
     "quat_from_dcm",
