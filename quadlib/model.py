@@ -248,6 +248,12 @@ class Sensor:
         True when ``h`` and ``H`` also take a stack of states ``(M, n)`` and return one result per
         state, ``(M, k)`` (or ``(M,)`` when ``k = 1``) and ``(M, k, n)``
         (:mod:`quadlib.analysis.batched`).
+    reset_needs_agreement : bool
+        With ``reset_after_s``: a lock-out ends only once the readings the gate refused agree with
+        one another, their scatter about their own mean (whitened by ``R``) within the χ² bound at
+        the gate's probability (:func:`~quadlib.model_filter.agreement_test`). Readings that agree
+        and still miss the estimate say the estimate is off, and it is reset to them; readings that
+        scatter more than ``R`` allows (a magnet that turns with the sensor) stay refused.
     """
 
     name: str
@@ -265,6 +271,7 @@ class Sensor:
     uncorrected: tuple[int, ...] = ()
     gated: bool = True
     vectorized: bool = False
+    reset_needs_agreement: bool = False
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -302,8 +309,11 @@ class Sensor:
             raise ValueError(f"Sensor({self.name!r}).uncorrected: expected distinct state indices >= 0, "
                              f"got {self.uncorrected!r}")
         object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
-        for flag in ("gated", "vectorized"):
+        for flag in ("gated", "vectorized", "reset_needs_agreement"):
             object.__setattr__(self, flag, as_bool(f"Sensor({self.name!r}).{flag}", getattr(self, flag)))
+        if self.reset_needs_agreement and self.reset_after_s is None:
+            raise ValueError(f"Sensor({self.name!r}).reset_needs_agreement: expected False without reset_after_s "
+                             "(there is no reset to condition), got True")
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

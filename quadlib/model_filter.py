@@ -12,7 +12,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy.stats import chi2
+from scipy.stats import chi2, norm
 
 from quadlib.model import Model, Sensor
 from quadlib.validation import as_covariance, as_positive, as_probability, as_vector
@@ -58,6 +58,18 @@ def gate_threshold(dim_z: int, probability: float) -> float:
 def group_gates(sensor: Sensor, probability: float) -> tuple[float, ...]:
     """The NIS threshold of each of ``sensor.groups`` at ``probability``."""
     return tuple(gate_threshold(len(g), probability) for g in sensor.groups)
+
+
+def agreement_test(sensor: Sensor, probability: float) -> tuple[np.ndarray, float]:
+    """``(W, z)`` for a reset that needs agreement (``sensor.reset_needs_agreement``): ``W`` whitens a
+    reading's innovation, block by block over ``sensor.groups`` (``L⁻¹`` of each group's ``R = L Lᵀ``),
+    and ``z = Φ⁻¹(probability)`` sets the χ² bound on the scatter of the whitened readings
+    (:func:`~quadlib.kernels.linalg.scatter_agrees`)."""
+    W = np.zeros((sensor.dim_z, sensor.dim_z))
+    for rows in sensor.groups:
+        block = np.ix_(rows, rows)
+        W[block] = np.linalg.inv(np.linalg.cholesky(sensor.R[block]))
+    return W, float(norm.ppf(probability))
 
 
 class ModelFilter:

@@ -20,8 +20,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from quadlib.kernels.linalg import scatter_agrees
 from quadlib.model import Sensor
-from quadlib.model_filter import ModelFilter, group_gates
+from quadlib.model_filter import ModelFilter, agreement_test, group_gates
 from quadlib.samples import Measurements
 from quadlib.validation import as_finite_number, as_float_array, as_positive, as_probability
 
@@ -146,11 +147,33 @@ def _has_nan(a: np.ndarray) -> bool:
 class _Log:
     """One sensor's samples and what the filter did with each."""
 
-    def __init__(self, sensor: Sensor, tol: float, gates):
+    def __init__(self, sensor: Sensor, tol: float, gates, agreement):
         self.sensor, self.tol, self.gates = sensor, tol, gates
         self.locked_since = [None] * len(sensor.groups)  # per group: since when the gate rejects it
+        self.agreement = agreement  # (W, z) of agreement_test, when a reset needs the refused readings to agree
+        self.refused = [None] * len(sensor.groups)  # per group: [count, Σ w, Σ |w|²] of the readings refused since
         self.last_t, self.last_z, self.equal_run = None, None, 0  # the duplicate and stuck rules
         self.rows = []  # per sample: (t, z, context, innovation or None, missing, duplicate)
+
+    def note_refused(self, inn) -> None:
+        """Add the groups the gate refused in ``inn`` to their lock-outs' whitened readings."""
+        W, _ = self.agreement
+        w = W @ inn.y
+        for g in inn.rejected_groups:
+            rows = list(self.sensor.groups[g])
+            if self.refused[g] is None:
+                self.refused[g] = [0.0, np.zeros(len(w)), 0.0]
+            acc = self.refused[g]
+            acc[0] += 1.0
+            acc[1][rows] += w[rows]
+            acc[2] += float(w[rows] @ w[rows])
+
+    def agreed(self, g: int) -> bool:
+        """The readings group ``g``'s lock-out refused agree with one another (True when not asked)."""
+        if self.agreement is None:
+            return True
+        count, total, squares = self.refused[g]
+        return bool(scatter_agrees(count, total, squares, float(len(self.sensor.groups[g])), self.agreement[1]))
 
     def screen(self, t_j: float, z: np.ndarray, c) -> tuple[bool, bool]:
         """``(missing, duplicate)`` of the next sample, in the order the sensor took them."""
@@ -234,7 +257,8 @@ class FilterStepper:
         self.filt, self.model = filt, filt.model
         self.start = (filt.estimate, filt.P.copy())  # the state a replay of the log starts from
         gated = [gate_probability is not None and s.gated for s in sensors]
-        self._logs = [_Log(s, tol, group_gates(s, gate_probability) if g else None)
+        self._logs = [_Log(s, tol, group_gates(s, gate_probability) if g else None,
+                           agreement_test(s, gate_probability) if g and s.reset_needs_agreement else None)
                       for s, tol, g in zip(sensors, tols, gated, strict=True)]
         self._index = {name: i for i, name in enumerate(names)}
         self._t, self._x, self._P, self._u, self._held = [], [], [], [], []
@@ -348,8 +372,10 @@ class FilterStepper:
         filt, sensor, gates, since = self.filt, log.sensor, log.gates, log.locked_since
         inn = filt.update_unchecked(sensor, z, gates, c)
         if inn.rejected_groups and sensor.reset_after_s is not None:
+            if log.agreement is not None:
+                log.note_refused(inn)
             expired = tuple(g for g in inn.rejected_groups
-                            if since[g] is not None and t_j - since[g] >= sensor.reset_after_s)
+                            if since[g] is not None and t_j - since[g] >= sensor.reset_after_s and log.agreed(g))
             for g in inn.rejected_groups:
                 since[g] = t_j if since[g] is None else since[g]
             if expired:  # undo the partial update, widen P along the locked-out groups, use them
@@ -357,11 +383,11 @@ class FilterStepper:
                 filt.inflate_toward(sensor, z, expired, c)
                 inn = filt.update_unchecked(sensor, z, gates, c, force=expired)._replace(reset=True)
                 for g in expired:
-                    since[g] = None
+                    since[g], log.refused[g] = None, None
         if gates is not None:
             for g in range(len(sensor.groups)):
                 if g not in inn.rejected_groups:
-                    since[g] = None
+                    since[g], log.refused[g] = None, None
         log.rows.append((t_j, z, c, inn, False, False))
 
     # results -----------------------------------------------------------------------------

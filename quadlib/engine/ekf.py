@@ -62,7 +62,8 @@ class SensorArrays(NamedTuple):
     ``-1``: unused, or ``z − ẑ`` and ``w Z``) and their ``params (S, 4, m)``; ``dim_z``, ``dim_c``;
     ``R (S, k, k)``; each row's group (``group (S, k)``) and ``n_groups``; the χ² threshold of each
     group (``gates (S, g)``, ``≤ 0``: not gated); ``reset_after_s`` (``≤ 0``: never); ``corrected (S, p)``,
-    the gain's rows kept."""
+    the gain's rows kept; for a reset that needs the refused readings to agree, ``whiten (S, k, k)`` and
+    the normal quantile ``agree_z (S,)`` of :func:`~quadlib.model_filter.agreement_test` (NaN: not needed)."""
 
     kinds: np.ndarray
     params: np.ndarray
@@ -74,6 +75,8 @@ class SensorArrays(NamedTuple):
     gates: np.ndarray
     reset_after_s: np.ndarray
     corrected: np.ndarray
+    whiten: np.ndarray
+    agree_z: np.ndarray
 
 
 class Samples(NamedTuple):

@@ -20,7 +20,7 @@ from quadlib.engine.kernel import MODEL_ROLES, Kernel
 from quadlib.engine.loop import filter_pass
 from quadlib.filters import ModelEKF, ModelUKF, sigma_point_sqrt
 from quadlib.model import Model
-from quadlib.model_filter import group_gates
+from quadlib.model_filter import agreement_test, group_gates
 
 __all__ = ["backward", "forward", "model_arrays", "plan"]
 
@@ -120,18 +120,22 @@ def plan(filt, measurements: list, gate_probability: float | None) -> tuple[Mode
     n, k, g = len(sensors), max([1] + [s.dim_z for s in sensors]), max([1] + [len(s.groups) for s in sensors])
     R, group, gates = np.zeros((n, k, k)), np.zeros((n, k), np.int64), np.zeros((n, g))
     corrected = np.ones((n, filt.model.dim_P), np.bool_)
+    whiten, agree_z = np.zeros((n, k, k)), np.full(n, np.nan)
     for i, s in enumerate(sensors):
         R[i, :s.dim_z, :s.dim_z] = s.R
         for number, rows in enumerate(s.groups):
             group[i, list(rows)] = number
         if gate_probability is not None and s.gated:
             gates[i, :len(s.groups)] = group_gates(s, gate_probability)
+            if s.reset_needs_agreement:
+                whiten[i, :s.dim_z, :s.dim_z], agree_z[i] = agreement_test(s, gate_probability)
         corrected[i, list(s.uncorrected)] = False
     return model, SensorArrays(
         kinds=kinds, params=_padded(params, (n, 4)), dim_z=np.array([s.dim_z for s in sensors], np.int64),
         dim_c=np.array([s.dim_c for s in sensors], np.int64), R=R, group=group,
         n_groups=np.array([len(s.groups) for s in sensors], np.int64), gates=gates,
-        reset_after_s=np.array([s.reset_after_s or 0.0 for s in sensors]), corrected=corrected), sigma
+        reset_after_s=np.array([s.reset_after_s or 0.0 for s in sensors]), corrected=corrected, whiten=whiten,
+        agree_z=agree_z), sigma
 
 
 def _samples(measurements: list, per_sensor: list, k: int) -> Samples:

@@ -92,10 +92,11 @@ def _kesten(name: str, noise: AttitudeNoise = KESTEN_NOISE, reset_after_s: float
     return lambda: ModelEKF(model, filt.state_from_q(Q0), filt.P0, 0.01), LOG.gyro, measurements, 0.99
 
 
-def _orientation(model, heading, groups: tuple = (), reset_after_s: float | None = 0.5):
-    """An attitude-and-bias filter with gravity (gated as ``groups``, reset after ``reset_after_s``), a
-    heading, and a zero-rate update over the first second."""
-    gravity = replace(gravity_sensor(0.2), groups=groups, reset_after_s=reset_after_s, stuck_samples=3)
+def _orientation(model, heading, groups: tuple = (), reset_after_s: float | None = 0.5, agree: bool = False):
+    """An attitude-and-bias filter with gravity (gated as ``groups``, reset after ``reset_after_s``, once
+    the refused readings agree when ``agree``), a heading, and a zero-rate update over the first second."""
+    gravity = replace(gravity_sensor(0.2), groups=groups, reset_after_s=reset_after_s, stuck_samples=3,
+                      reset_needs_agreement=agree)
     still = np.where((LOG.t < 1.0)[:, None], LOG.gyro, np.nan)
     measurements = [Measurements(gravity, LOG.t, LOG.accel),
                     Measurements(heading, LOG.t, np.zeros(len(LOG)), context=LOG.mag),
@@ -119,6 +120,8 @@ CASES |= {
     "MEKF, gravity in two groups": lambda: _orientation(attitude_bias_model(0.005, 1e-4, GYRO_RANGE),
                                                         heading_sensor(0.1), ((0, 1), (2,)), None),
     "MEKF": lambda: _orientation(attitude_bias_model(0.005, 1e-4, GYRO_RANGE), heading_sensor(0.1)),
+    "MEKF, gravity reset once the refused readings agree": lambda: _orientation(
+        attitude_bias_model(0.005, 1e-4, GYRO_RANGE), heading_sensor(0.1), agree=True),
     "MEKF, tilt-aware heading": lambda: _orientation(attitude_bias_model(0.005, 1e-4),
                                                      heading_sensor(0.1, tilt_aware=True)),
     "MEKF, heading corrects the bias": lambda: _orientation(attitude_bias_model(0.005, 1e-4, GYRO_RANGE),
@@ -234,6 +237,9 @@ def test_the_cases_reach_every_branch():
     for trace in (gravity, heading):
         assert trace.rejected.sum() > 5 and trace.missing.sum() > 20 and trace.duplicate[300]
     assert gravity.reset.sum() >= 1
+    make, u, measurements, gate = CASES["MEKF, gravity reset once the refused readings agree"]()
+    agreeing = run_filter(make(), LOG.t, u, measurements, gate).sensors["gravity"]
+    assert agreeing.reset.any()  # the push's readings agree (BROAD 34's below do not)
     make, u, measurements, gate = CASES["MEKF, gravity in two groups"]()
     split = run_filter(make(), LOG.t, u, measurements, gate).sensors["gravity"]
     assert (split.rejected & split.used).sum() > 3  # one group rejected, the other used
@@ -296,7 +302,23 @@ ORIENTATION = {
                                                     gravity_sigma_m_s2=0.2, accel_tau_s=None)),
     "no magnetometer, no rest, no gate": (ImuLog(LOG.t, LOG.gyro, LOG.accel),
                                           OrientationParams(gate_probability=None, rest_min_s=None)),
+    # the turns' acceleration tilts the estimate and turns its heading away: headings reset once they agree
+    "fixed-wing turns": (fixedwing_samples(fixedwing_flight(rate_hz=50.0), FixedWingNoise(), np.random.default_rng(12)),
+                         OrientationParams()),
+    # 30-75 s of a magnet turning with the sensor: headings refused for seconds without agreeing, one reset
+    "BROAD 34, a magnet turning with the sensor": (
+        load_broad_trial("34_disturbed_attached_magnet_3cm").log.slice(8571, 21429), OrientationParams()),
 }
+
+
+def _refused_past(trace, seconds: float) -> int:
+    """The samples a lock-out still refused after ``seconds`` (a reset that waits for agreement)."""
+    since, count = None, 0
+    for k in np.flatnonzero(~(trace.missing | trace.duplicate)):
+        locked = trace.rejected[k] and not trace.reset[k]
+        since = (trace.t[k] if since is None else since) if locked else None
+        count += locked and trace.t[k] - since >= seconds
+    return count
 
 
 @pytest.mark.parametrize("offline", [False, True], ids=["forward", "smoother"])
@@ -305,4 +327,9 @@ def test_orientation_run_equals_its_readable_run(case, offline, assert_same_run)
     log, params = ORIENTATION[case]
     compiled = orientation_run(log, params, offline=offline)
     assert compiled.engine == "compiled"
+    heading = compiled.sensors.get("heading")
+    if case == "fixed-wing turns":
+        assert heading.reset.sum() >= 5
+    if case.startswith("BROAD 34") and not offline:  # offline judges each reading alone: other lock-outs
+        assert heading.reset.any() and _refused_past(heading, params.heading_reset_s) > 100
     assert_same_run(compiled, orientation_run(log, params, offline=offline, compiled=False))
