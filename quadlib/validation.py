@@ -194,10 +194,13 @@ def as_probability(name: str, value, open_interval: bool = True) -> float:
     return x
 
 
-def as_count(name: str, value, low: int = 1) -> int:
-    """Return ``value`` as an int >= ``low`` (a number of runs, a seed); bools are refused."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ValueError(f"{name}: expected an int >= {low}, got {value!r}")
+def as_count(name: str, value, low: int = 1, *, high: int | None = None) -> int:
+    """Return ``value`` as an int >= ``low`` (a number of runs, a seed), and <= ``high`` if given; bools
+    are refused."""
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
+            or high is not None and value > high):
+        bounds = f">= {low}" if high is None else f"in [{low}, {high}]"
+        raise ValueError(f"{name}: expected an int {bounds}, got {value!r}")
     return int(value)
 
 
@@ -273,10 +276,10 @@ _EXPECTED = {"finite": "a finite number", "positive": "a finite number > 0", "no
 _CONVERTED = {"count": as_count, "bool": as_bool}  # checked, and stored as the int or bool they return
 
 
-def _converted(convert, name: str, value, optional: bool):
-    """``convert(name, value)``; for an optional field its error also says None is allowed."""
+def _converted(convert, name: str, value, optional: bool, **options):
+    """``convert(name, value, **options)``; for an optional field its error also says None is allowed."""
     try:
-        return convert(name, value)
+        return convert(name, value, **options)
     except (TypeError, ValueError) as err:
         if not optional:
             raise

@@ -107,6 +107,22 @@ def test_as_bool_rejects_other_values_naming_the_argument(bad, shown):
         as_bool("compiled", bad)
 
 
+def test_as_count_returns_an_int_within_its_bounds():
+    assert as_count("n", np.int64(4)) == 4 and type(as_count("n", np.int64(4))) is int
+    assert as_count("shift", -100, low=-100, high=100) == -100 and as_count("shift", 100, low=-100, high=100) == 100
+
+
+@pytest.mark.parametrize("bad, low, high, message", [
+    (0, 1, None, "n: expected an int >= 1, got 0"), (True, 0, None, "n: expected an int >= 0, got True"),
+    (2.0, 1, None, "n: expected an int >= 1, got 2.0"), ("3", 1, None, "n: expected an int >= 1, got '3'"),
+    (0, 1, 5, r"n: expected an int in \[1, 5\], got 0"), (6, 1, 5, r"n: expected an int in \[1, 5\], got 6"),
+    (True, 0, 5, r"n: expected an int in \[0, 5\], got True"), (1.5, 1, 5, r"n: expected an int in \[1, 5\], got 1.5"),
+])
+def test_as_count_rejects_naming_the_argument_and_its_bounds(bad, low, high, message):
+    with pytest.raises(ValueError, match=f"^{message}$"):
+        as_count("n", bad, low, high=high)
+
+
 @dataclass(frozen=True)
 class _Flags:
     n: object = 3
