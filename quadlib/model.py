@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.validation import as_bool, as_covariance, as_finite_array, as_positive, as_vector
+from quadlib.validation import _converted, as_bool, as_count, as_covariance, as_finite_array, as_positive, as_vector
 
 __all__ = ["Model", "Sensor"]
 
@@ -297,18 +297,20 @@ class Sensor:
         if self.reset_after_s is not None:
             object.__setattr__(self, "reset_after_s",
                                as_positive(f"Sensor({self.name!r}).reset_after_s", self.reset_after_s))
-        n = self.stuck_samples
-        if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2):
-            raise ValueError(f"Sensor({self.name!r}).stuck_samples: expected an int >= 2 or None, got {n!r}")
+        if self.stuck_samples is not None:
+            object.__setattr__(self, "stuck_samples", _converted(
+                as_count, f"Sensor({self.name!r}).stuck_samples", self.stuck_samples, True, low=2))
         try:
             uncorrected = tuple(self.uncorrected)
         except TypeError:
             uncorrected = None
-        if uncorrected is None or any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0
-                                      for i in uncorrected) or len(set(uncorrected)) != len(uncorrected):
+        if uncorrected is not None:
+            uncorrected = tuple(as_count(f"Sensor({self.name!r}).uncorrected[{j}]", i, low=0)
+                                for j, i in enumerate(uncorrected))
+        if uncorrected is None or len(set(uncorrected)) != len(uncorrected):
             raise ValueError(f"Sensor({self.name!r}).uncorrected: expected distinct state indices >= 0, "
                              f"got {self.uncorrected!r}")
-        object.__setattr__(self, "uncorrected", tuple(int(i) for i in uncorrected))
+        object.__setattr__(self, "uncorrected", uncorrected)
         for flag in ("gated", "vectorized", "reset_needs_agreement"):
             object.__setattr__(self, flag, as_bool(f"Sensor({self.name!r}).{flag}", getattr(self, flag)))
         if self.reset_needs_agreement and self.reset_after_s is None:

@@ -13,6 +13,8 @@ from collections.abc import Iterable
 
 from tqdm.auto import tqdm
 
+from quadlib.validation import _converted, as_count
+
 __all__ = ["ENV_VAR", "progress", "progress_enabled", "switch_off"]
 
 ENV_VAR = "QUADLIB_PROGRESS"
@@ -36,8 +38,8 @@ def progress(iterable: Iterable, label: str, total: int | None = None) -> Iterab
     """
     if not isinstance(label, str) or not label:
         raise TypeError(f"label: expected a non-empty str, got {label!r}")
-    if total is not None and (isinstance(total, bool) or not isinstance(total, int) or total < 0):
-        raise ValueError(f"total: expected a non-negative int or None, got {total!r}")
+    if total is not None:
+        total = _converted(as_count, "total", total, True, low=0)
     if not isinstance(iterable, Iterable):
         raise TypeError(f"iterable: expected an iterable, got {type(iterable).__name__}")
     if not progress_enabled():

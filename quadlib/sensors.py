@@ -15,7 +15,7 @@ from quadlib.constants import GRAVITY_N
 from quadlib.engine.kernel import Kernel, linear_kernels
 from quadlib.kernels import attitude as attitude_maths
 from quadlib.model import Sensor
-from quadlib.validation import as_bool, as_positive
+from quadlib.validation import as_bool, as_count, as_positive
 
 __all__ = ["GYRO_NAMES", "gravity_sensor", "heading_sensor", "zero_rate_sensor"]
 
@@ -67,9 +67,7 @@ def heading_sensor(sigma_rad: float, corrects_bias: bool = False, *, dim_x: int 
     """
     as_positive("sigma_rad", sigma_rad)
     corrects_bias, tilt_aware = as_bool("corrects_bias", corrects_bias), as_bool("tilt_aware", tilt_aware)
-    if isinstance(dim_x, bool) or not isinstance(dim_x, (int, np.integer)) or dim_x < 4:
-        raise ValueError(f"dim_x: expected an int >= 4 (the quaternion comes first), got {dim_x!r}")
-    dim_x = int(dim_x)
+    dim_x = as_count("dim_x", dim_x, low=4)  # the quaternion comes first
     if not (isinstance(gyro_bias_errors, tuple) and all(
             isinstance(i, int) and not isinstance(i, bool) and 0 <= i < dim_x - 1 for i in gyro_bias_errors)):
         raise ValueError(f"gyro_bias_errors: expected a tuple of error-state indices in [0, {dim_x - 2}], "

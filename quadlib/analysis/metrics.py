@@ -25,6 +25,7 @@ from quadlib.geometry.quaternion import (
 )
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.validation import (
+    as_count,
     as_finite_array,
     as_finite_number,
     as_float_array,
@@ -200,10 +201,7 @@ def chi2_interval(dof: int, n_runs: int = 1, probability: float = 0.95) -> tuple
     (low, high) : tuple of float
         Bounds for the *average*: ``χ²⁻¹((1∓p)/2, M·dof) / M``.
     """
-    if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or dof < 1:
-        raise ValueError(f"dof: expected a positive integer, got {dof!r}")
-    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
-        raise ValueError(f"n_runs: expected a positive integer, got {n_runs!r}")
+    dof, n_runs = as_count("dof", dof), as_count("n_runs", n_runs)
     p = as_probability("probability", probability)
     total = dof * n_runs
     low = chi2.ppf((1 - p) / 2, total) / n_runs

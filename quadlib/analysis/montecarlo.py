@@ -23,7 +23,7 @@ from quadlib.progress import progress
 from quadlib.replay import run_filter
 from quadlib.samples import Measurements
 from quadlib.sim.simulate import sample_sensor, simulate_model
-from quadlib.validation import as_bool, as_covariance, as_instance, as_probability, as_rng, as_vector
+from quadlib.validation import as_bool, as_count, as_covariance, as_instance, as_probability, as_rng, as_vector
 
 __all__ = ["Moments", "MonteCarloRuns", "importance_posterior", "propagate_samples", "run_monte_carlo"]
 
@@ -38,9 +38,8 @@ class Moments(NamedTuple):
 def _samples(mu, P, n_samples: int, rng) -> np.ndarray:
     mu = as_vector("mu", mu)
     P = as_covariance(f"P (for mu of size {mu.size})", P, mu.size)
-    if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) or n_samples < 2:
-        raise ValueError(f"n_samples: expected an int >= 2, got {n_samples!r}")
-    return as_rng(rng).multivariate_normal(mu, P, size=int(n_samples), method="eigh")
+    n_samples = as_count("n_samples", n_samples, low=2)
+    return as_rng(rng).multivariate_normal(mu, P, size=n_samples, method="eigh")
 
 
 def propagate_samples(f, mu, P, n_samples: int, rng) -> tuple[Moments, np.ndarray]:
@@ -151,8 +150,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
     model, rng = as_instance("model", model, Model), as_rng(rng)
     x0 = model.check_state(x0, "x0")
     P0 = as_covariance("P0", P0, model.dim_x)
-    if isinstance(n_runs, bool) or not isinstance(n_runs, (int, np.integer)) or n_runs < 1:
-        raise ValueError(f"n_runs: expected an int >= 1, got {n_runs!r}")
+    n_runs = as_count("n_runs", n_runs)
     if not isinstance(filters, Mapping) or not filters or not all(callable(f) for f in filters.values()):
         raise TypeError(f"filters: expected a non-empty mapping of name -> factory(x0, P0), got {filters!r:.80}")
     if isinstance(sensors, (str, bytes)) or not all(isinstance(s, Sensor) for s in sensors):
@@ -171,7 +169,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
         return items if progress_label is None else progress(items, f"{progress_label}: {what}")
 
     truths, runs_samples = [], []
-    for _ in bar(range(int(n_runs)), "simulating"):
+    for _ in bar(range(n_runs), "simulating"):
         truth = simulate_model(model, rng.multivariate_normal(x0, P0, method="eigh"), t, u, rng)
         truths.append(truth)
         samples = [sample_sensor(s, t, truth, rng) for s in sensors]
@@ -189,7 +187,7 @@ def run_monte_carlo(filters: Mapping[str, Callable], model: Model, sensors: Sequ
                          for samples in runs_samples]
         first = make(x0, P0)
         if batched and batch_supported(first, [m.sensor for m in seen_runs[0]], gate_probability):
-            x, P, nis, rejected = run_batch(first, np.broadcast_to(x0, (int(n_runs), len(x0))), t, u,
+            x, P, nis, rejected = run_batch(first, np.broadcast_to(x0, (n_runs, len(x0))), t, u,
                                             seen_runs, gate_probability)
         else:
             runs = [run_filter(first if i == 0 else make(x0, P0), t, u, seen, gate_probability=gate_probability)

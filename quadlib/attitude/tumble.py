@@ -11,7 +11,7 @@ import numpy as np
 
 from quadlib.kernels.quaternion import exp_rotvec, multiply
 from quadlib.sim.imu import BodyMotion, specific_force_at_rest
-from quadlib.validation import as_finite_number, as_positive, as_rng
+from quadlib.validation import as_count, as_finite_number, as_positive, as_rng
 
 __all__ = ["random_rotation", "with_spin"]
 
@@ -20,8 +20,7 @@ def random_rotation(duration_s: float, rate_hz: float, rng, rms_rate_rad_s: floa
                     n_terms: int = 12) -> BodyMotion:
     """A tumble of ``duration_s`` sampled at ``rate_hz`` (Kesten's IMU: 250 Hz), starting level and north."""
     rng = as_rng(rng)
-    if isinstance(n_terms, bool) or not isinstance(n_terms, (int, np.integer)) or n_terms < 1:
-        raise ValueError(f"n_terms: expected an int >= 1, got {n_terms!r}")
+    n_terms = as_count("n_terms", n_terms)
     dt = 1.0 / as_positive("rate_hz", rate_hz)
     t = np.arange(int(round(as_positive("duration_s", duration_s) / dt)) + 1) * dt
     axes = rng.normal(size=(n_terms, 3))

@@ -39,6 +39,7 @@ from quadlib.quad.flight import Flight3D
 from quadlib.sensors import gravity_sensor, heading_sensor
 from quadlib.stepper import FilterStepper, Sample
 from quadlib.validation import (
+    as_count,
     as_finite_array,
     as_instance,
     as_positive,
@@ -227,8 +228,7 @@ def fly(reference: Callable[[float], Reference], duration_s: float, params: Quad
         raise ValueError(f"estimator: expected 'truth', 'altitude' or 'filters', got {estimator!r}")
     if estimator != "truth" or rng is not None:
         rng = as_rng(rng)
-    if isinstance(physics_steps, bool) or not isinstance(physics_steps, (int, np.integer)) or physics_steps < 1:
-        raise ValueError(f"physics_steps: expected an int >= 1, got {physics_steps!r}")
+    physics_steps = as_count("physics_steps", physics_steps)
     gains = altitude_pid_gains(params.mass_kg) if altitude_gains is None else as_instance(
         "altitude_gains", altitude_gains, AltitudeGains)
     if not all(np.isfinite(gains)):

@@ -21,7 +21,7 @@ from quadlib.model import Model, Sensor
 from quadlib.model_filter import ModelFilter
 from quadlib.sim.simulate import gaussian_factor
 from quadlib.stepper import FilterStepper, Sample
-from quadlib.validation import as_finite_number, as_instance, as_positive, as_rng, as_times
+from quadlib.validation import as_count, as_finite_number, as_instance, as_positive, as_rng, as_times
 
 __all__ = ["PlanarRun", "hold_distance"]
 
@@ -55,8 +55,7 @@ def hold_distance(model: Model, sensor: Sensor, filt: ModelFilter, t, x0, target
     truth[0] = model.check_state(x0, "x0")
     target = as_finite_number("target_y_m", target_y_m)
     rng = as_rng(rng)
-    if isinstance(sample_every, bool) or not isinstance(sample_every, (int, np.integer)) or sample_every < 1:
-        raise ValueError(f"sample_every: expected an int >= 1, got {sample_every!r}")
+    sample_every = as_count("sample_every", sample_every)
     k_p, k_d, max_roll = (as_positive(n, v) for n, v in (("k_p", k_p), ("k_d", k_d), ("max_roll_rad", max_roll_rad)))
     xs, sigmas, roll_cmd = np.empty_like(truth), np.empty_like(truth), np.empty(t.size)
     q_factors, r_factor = {}, gaussian_factor(sensor.R).T  # draws as rng.multivariate_normal(..., method="eigh")

@@ -137,8 +137,7 @@ def gyro_truth_mismatch_deg(trial: BroadTrial, shift: int = 0, samples: int = 10
     """
     if not isinstance(trial, BroadTrial):
         raise TypeError(f"trial: expected a BroadTrial, got {type(trial).__name__}")
-    if isinstance(shift, bool) or not isinstance(shift, (int, np.integer)) or abs(shift) > 100:
-        raise ValueError(f"shift: expected an int between -100 and 100, got {shift!r}")
+    shift = as_count("shift", shift, low=-100, high=100)
     m = as_count("samples", samples)
     q, dt, n = trial.q_nb, float(np.median(trial.log.dt)), len(trial.log)
     k = np.arange(max(0, -shift), n - m - max(0, shift))

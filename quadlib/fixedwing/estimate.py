@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_bool, as_finite_number, as_instance, as_positive, check_fields
+from quadlib.validation import as_bool, as_count, as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingParams", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -115,8 +115,7 @@ def initial_state(log: ImuLog, n_still: int) -> np.ndarray:
     mean accelerometer and magnetometer vectors. The samples must come from an unaccelerated,
     non-rotating stretch: at rest, or in steady straight and level flight."""
     log = as_instance("log", log, ImuLog)
-    if isinstance(n_still, bool) or not isinstance(n_still, (int, np.integer)) or n_still < 1:
-        raise ValueError(f"n_still: expected an int >= 1, got {n_still!r}")
+    n_still = as_count("n_still", n_still)
     if log.mag is None:
         raise ValueError("log.mag: expected magnetometer samples for the initial heading, got None")
     accel, mag, gyro = log.accel[:n_still], log.mag[:n_still], log.gyro[:n_still]

@@ -19,7 +19,7 @@ from quadlib.geometry.quaternion import body_rates_between, quat_from_euler, qua
 from quadlib.imu import ImuLog
 from quadlib.sim.imu import BodyMotion, imu_samples
 from quadlib.sim.trajectories import min_jerk
-from quadlib.validation import as_finite_number, as_instance, as_positive, as_rng
+from quadlib.validation import as_count, as_finite_number, as_instance, as_positive, as_rng
 
 __all__ = ["FixedWingFlight", "aileron_roll", "fixedwing_flight", "fixedwing_samples"]
 
@@ -71,8 +71,7 @@ def aileron_roll(flight: FixedWingFlight, start_s: float, rate_rad_s: float, tur
     if not isinstance(flight, FixedWingFlight):
         raise TypeError(f"flight: expected a FixedWingFlight, got {type(flight).__name__}")
     rate, start_s = as_positive("rate_rad_s", rate_rad_s), as_finite_number("start_s", start_s)
-    if isinstance(turns, bool) or not isinstance(turns, (int, np.integer)) or turns < 1:
-        raise ValueError(f"turns: expected an int >= 1, got {turns!r}")
+    turns = as_count("turns", turns)
     if not flight.t[0] <= start_s < flight.t[-1]:
         raise ValueError(f"start_s: expected a time within the flight [{flight.t[0]}, {flight.t[-1]}) s, got {start_s}")
     angle = np.clip((flight.t - start_s) * rate, 0.0, 2 * np.pi * turns)

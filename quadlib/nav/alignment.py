@@ -17,7 +17,7 @@ from quadlib.constants import GRAVITY_N
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_to_dcm
 from quadlib.imu import ImuLog
 from quadlib.samples import Samples
-from quadlib.validation import as_float_array, as_instance, as_positive, as_vector
+from quadlib.validation import as_count, as_float_array, as_instance, as_positive, as_vector
 
 __all__ = ["accel_noise_equivalent", "velocity_change_mismatch"]
 
@@ -37,8 +37,7 @@ def velocity_change_mismatch(log: ImuLog, q_nb, gps: Samples, delay_s: float = 0
     if gps.z.ndim != 2 or gps.z.shape[1] != 6:
         raise ValueError(f"gps: expected samples of [pn, pe, pd, vn, ve, vd], shape (K, 6), got {gps.z.shape}")
     delay = as_positive("delay_s", delay_s, allow_zero=True)
-    if isinstance(fixes, bool) or not isinstance(fixes, (int, np.integer)) or not 1 <= fixes < gps.t.size:
-        raise ValueError(f"fixes: expected an int in [1, {gps.t.size - 1}], got {fixes!r}")
+    fixes = as_count("fixes", fixes, high=gps.t.size - 1)
     a_n = np.einsum("nij,nj->ni", quat_to_dcm(q), np.nan_to_num(log.accel)) + GRAVITY_N
     v_imu = np.vstack([np.zeros(3), np.cumsum(a_n[:-1] * log.dt[:, None], axis=0)])
     at_fix = np.column_stack([np.interp(gps.t - delay, log.t, v_imu[:, i]) for i in range(3)])

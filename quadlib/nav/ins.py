@@ -54,6 +54,7 @@ from quadlib.samples import Measurements, Samples
 from quadlib.sensors import heading_sensor
 from quadlib.validation import (
     as_bool,
+    as_count,
     as_finite_array,
     as_finite_number,
     as_instance,
@@ -207,8 +208,7 @@ class InsParams:
     def noise(self, decimate: int = 1) -> tuple[float, np.ndarray, float, float]:
         """The arguments of :func:`ins_model` for inputs that average ``decimate`` IMU samples: the
         gyro's σ, the accelerometer's (3,) σ (both divided by √decimate), the two bias walks."""
-        if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or decimate < 1:
-            raise ValueError(f"decimate: expected an int >= 1 (IMU samples per filter step), got {decimate!r}")
+        decimate = as_count("decimate", decimate)  # IMU samples per filter step
         root = float(np.sqrt(decimate))
         accel = np.broadcast_to(np.asarray(self.accel_sigma_m_s2, dtype=float) / root, (3,)).copy()
         return (self.gyro_sigma_rad_s / root, accel, self.gyro_bias_walk_rad_s_sqrt_s,
@@ -235,8 +235,7 @@ def imu_blocks(log: ImuLog, decimate: int = 1) -> tuple[np.ndarray, np.ndarray]:
     :func:`~quadlib.run_filter`)."""
     log = as_instance("log", log, ImuLog)
     n = len(log)
-    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or not 1 <= decimate <= n // 2:
-        raise ValueError(f"decimate: expected an int in [1, {n // 2}] (at least two blocks), got {decimate!r}")
+    decimate = as_count("decimate", decimate, high=n // 2)  # at least two blocks
     m = n // decimate
     u = np.hstack([log.gyro, log.accel])[: m * decimate].reshape(m, decimate, 6).mean(axis=1)
     return log.t[: m * decimate : decimate].copy(), u
@@ -258,8 +257,7 @@ def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 
     zero. Without a magnetometer (or without a reading in the log) the heading starts at north."""
     log = as_instance("log", log, ImuLog)
     declination_rad = as_finite_number("declination_rad", declination_rad)
-    if isinstance(n_average, bool) or not isinstance(n_average, (int, np.integer)) or not 1 <= n_average <= len(log):
-        raise ValueError(f"n_average: expected an int in [1, {len(log)}], got {n_average!r}")
+    n_average = as_count("n_average", n_average, high=len(log))
     f = np.nanmean(log.accel[:n_average], axis=0)
     # without a magnetometer reading a "field" along body x: the body's heading is north
     m = np.array([1.0, 0.0, 0.0]) if log.mag is None else _first_field(log.mag, n_average * 5)

@@ -31,7 +31,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from quadlib.kernels.quaternion import skew
-from quadlib.validation import as_finite_array, as_positive, as_probability
+from quadlib.validation import as_count, as_finite_array, as_positive, as_probability
 
 __all__ = ["IcpResult", "best_rigid_transform", "convergence_basin", "estimate_normals", "icp", "point_to_plane_step"]
 
@@ -106,10 +106,8 @@ def estimate_normals(points, neighbours: int = 8) -> np.ndarray:
     """Unit surface normals (N, d): the direction of least spread of each point's ``neighbours``
     nearest points (the smallest eigenvector of their covariance)."""
     pts = _points("points", points)
-    if isinstance(neighbours, bool) or not isinstance(neighbours, (int, np.integer)) or not \
-            pts.shape[1] <= neighbours <= pts.shape[0]:
-        raise ValueError(f"neighbours: expected an int in [{pts.shape[1]}, {pts.shape[0]}], got {neighbours!r}")
-    _, idx = cKDTree(pts).query(pts, k=int(neighbours))
+    neighbours = as_count("neighbours", neighbours, low=pts.shape[1], high=pts.shape[0])
+    _, idx = cKDTree(pts).query(pts, k=neighbours)
     local = pts[idx] - pts[idx].mean(axis=1, keepdims=True)
     _, vectors = np.linalg.eigh(np.einsum("nki,nkj->nij", local, local))
     return vectors[:, :, 0]
@@ -170,8 +168,7 @@ def icp(source, target, *, method: str = "point", initial=None, max_iterations: 
         raise ValueError(f"target: expected points of dimension {d} like source, got shape {tgt.shape}")
     if method not in ("point", "plane"):
         raise ValueError(f"method: expected 'point' or 'plane', got {method!r}")
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
-        raise ValueError(f"max_iterations: expected an int >= 1, got {max_iterations!r}")
+    max_iterations = as_count("max_iterations", max_iterations)
     tolerance = as_positive("tolerance", tolerance)
     if trim != 0.0:
         trim = as_probability("trim", trim)

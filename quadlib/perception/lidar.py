@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from quadlib.kernels.lidar import first_hits
-from quadlib.validation import as_finite_array, as_positive, as_rng, as_vector
+from quadlib.validation import as_count, as_finite_array, as_positive, as_rng, as_vector
 
 __all__ = ["LidarScan", "cast_rays", "corridor_map", "lidar_scan", "room_map"]
 
@@ -29,13 +29,12 @@ def room_map(width_m: float = 20.0, depth_m: float = 12.0, pillars: int = 2, box
     pillars (0.6 m) along its middle and, optionally, ``boxes`` (cupboards, crates): rectangles
     ``(x0, y0, x1, y1)`` [m]. Without boxes the room looks the same turned by 180° about its centre."""
     w, d = as_positive("width_m", width_m), as_positive("depth_m", depth_m)
-    if isinstance(pillars, bool) or not isinstance(pillars, (int, np.integer)) or pillars < 0:
-        raise ValueError(f"pillars: expected an int >= 0, got {pillars!r}")
+    pillars = as_count("pillars", pillars, low=0)
     rects = np.zeros((0, 4)) if boxes is None else as_finite_array("boxes", boxes, ndim=2)
     if rects.shape[1] != 4 or np.any(rects[:, 2:] <= rects[:, :2]):
         raise ValueError(f"boxes: expected rectangles (x0, y0, x1, y1) with x1 > x0 and y1 > y0, got {boxes!r}")
     walls = [_box(0.0, 0.0, w, d)]
-    for i in range(int(pillars)):
+    for i in range(pillars):
         cx = w * (i + 1) / (pillars + 1)
         walls.append(_box(cx - 0.3, d / 2 - 0.3, cx + 0.3, d / 2 + 0.3))
     walls += [_box(*r) for r in rects]
@@ -72,14 +71,13 @@ def lidar_scan(pose, segments, rng, *, beams: int = 360, max_range_m: float = 20
     seg = as_finite_array("segments", segments)
     if seg.ndim != 3 or seg.shape[1:] != (2, 2):
         raise ValueError(f"segments: expected wall segments of shape (S, 2, 2), got {seg.shape}")
-    if isinstance(beams, bool) or not isinstance(beams, (int, np.integer)) or beams < 1:
-        raise ValueError(f"beams: expected an int >= 1, got {beams!r}")
+    beams = as_count("beams", beams)
     max_range = as_positive("max_range_m", max_range_m)
     sigma = as_positive("range_sigma_m", range_sigma_m, allow_zero=True)
     if not (isinstance(dropout, (int, float)) and not isinstance(dropout, bool) and 0.0 <= dropout < 1.0):
         raise ValueError(f"dropout: expected a fraction in [0, 1), got {dropout!r}")
     rng = as_rng(rng)
-    bearings = np.arange(int(beams)) * (2.0 * np.pi / beams) - np.pi
+    bearings = np.arange(beams) * (2.0 * np.pi / beams) - np.pi
     ranges = cast_rays(np.array([[x, y]]), np.array([yaw]), bearings, seg)[0]
     noise = rng.standard_normal(ranges.size) * sigma
     dropped = rng.random(ranges.size) < dropout

@@ -20,7 +20,7 @@ import numpy as np
 
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.perception.icp import icp
-from quadlib.validation import as_finite_array, as_positive, as_probability, as_vector
+from quadlib.validation import as_count, as_finite_array, as_positive, as_probability, as_vector
 
 __all__ = ["MapMatch", "scan_to_map", "track_scans", "wall_points"]
 
@@ -85,8 +85,7 @@ def track_scans(scans, map_points, map_normals, initial_pose, *, trim: float = 0
     A scan with fewer than ``min_points`` returns gives ``None`` (no fix) and the next one starts
     from the last match."""
     pose = as_vector("initial_pose", initial_pose, 3)
-    if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 3:
-        raise ValueError(f"min_points: expected an int >= 3, got {min_points!r}")
+    min_points = as_count("min_points", min_points, low=3)
     out, previous, last = [], None, pose
     for j, pts in enumerate(scans):
         pts = as_finite_array(f"scans[{j}]", pts, ndim=2)

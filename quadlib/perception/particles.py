@@ -34,7 +34,15 @@ import numpy as np
 
 from quadlib.geometry.rotations import wrap_angle
 from quadlib.perception.lidar import cast_rays
-from quadlib.validation import as_finite_array, as_float_array, as_positive, as_probability, as_rng, as_vector
+from quadlib.validation import (
+    as_count,
+    as_finite_array,
+    as_float_array,
+    as_positive,
+    as_probability,
+    as_rng,
+    as_vector,
+)
 
 __all__ = ["RESAMPLING_SCHEMES", "LocalisationRun", "effective_sample_size", "localise", "odometry_step",
            "particle_pose", "pose_error", "resample", "scan_log_likelihood"]
@@ -199,10 +207,8 @@ def localise(particles, odometry, scans, bearings, segments, dt: float, rng, *, 
     rng = as_rng(rng)
     n, k = p.shape[0], odo.shape[0]
     keep = set()
-    for step in snapshots:
-        if isinstance(step, bool) or not isinstance(step, (int, np.integer)) or not 0 <= step < k:
-            raise ValueError(f"snapshots: expected step indices in [0, {k - 1}], got {snapshots!r}")
-        keep.add(int(step))
+    for j, step in enumerate(snapshots):
+        keep.add(as_count(f"snapshots[{j}]", step, low=0, high=k - 1))
     kept = {}
     log_w = np.full(n, -np.log(n))
     pose, spread, ess, resampled = np.zeros((k, 3)), np.zeros(k), np.zeros(k), np.zeros(k, dtype=bool)

@@ -18,7 +18,7 @@ import numpy as np
 
 from quadlib.perception.lidar import lidar_scan, room_map
 from quadlib.perception.particles import _poses, localise, pose_error
-from quadlib.validation import as_positive, as_rng, as_vector
+from quadlib.validation import as_count, as_positive, as_rng, as_vector
 
 __all__ = ["LocalisationScenario", "corner_start", "corner_trials", "hypothesis_particles"]
 
@@ -76,8 +76,7 @@ def hypothesis_particles(hypotheses, n: int, rng, sigma=(0.3, 0.3, 0.087)) -> np
     by Gaussian noise of σ ``sigma = (σ_x, σ_y, σ_yaw)`` [m, m, rad] (default 0.3 m and 5°): the
     belief "in one of these poses"."""
     hyp = _poses("hypotheses", hypotheses)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n: expected an int >= 1, got {n!r}")
+    n = as_count("n", n)
     s = as_vector("sigma", sigma, 3)
     if np.any(s < 0):
         raise ValueError(f"sigma: expected (σ_x, σ_y, σ_yaw) >= 0, got {s.tolist()}")
@@ -91,11 +90,9 @@ def corner_trials(particles: int, runs: int, *, scheme: str = "systematic", sigm
     ``first_seed, first_seed + 1, …``): the share that end within 0.5 m and 10° of the truth, their
     median position error [m] (NaN if none), and the filter's mean time per run [s] (the
     simulation excluded; a ratio between settings, not a benchmark of the machine)."""
-    for name, value in (("particles", particles), ("runs", runs)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name}: expected an int >= 1, got {value!r}")
+    particles, runs = as_count("particles", particles), as_count("runs", runs)
     found, errors, seconds = 0, [], 0.0
-    for seed in range(first_seed, first_seed + int(runs)):
+    for seed in range(first_seed, first_seed + runs):
         rng = np.random.default_rng(seed)
         sc = corner_start(rng)
         start = time.perf_counter()

@@ -35,7 +35,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from quadlib.validation import as_finite_array, as_float_array, as_positive, as_probability, as_rng, as_vector
+from quadlib.validation import (
+    as_count,
+    as_finite_array,
+    as_float_array,
+    as_positive,
+    as_probability,
+    as_rng,
+    as_vector,
+)
 
 __all__ = ["CAMERA_IN_BODY", "Camera", "VoRun", "decompose_essential", "essential_eight_point", "essential_ransac",
            "observe", "project", "recover_pose", "relative_scale", "textured_room", "triangulate", "visual_odometry"]
@@ -54,10 +62,8 @@ class Camera:
 
     def __post_init__(self):
         as_positive("Camera.f_px", self.f_px)
-        for name in ("width", "height"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                raise ValueError(f"Camera.{name}: expected an int >= 1 [px], got {v!r}")
+        for name in ("width", "height"):  # [px]
+            object.__setattr__(self, name, as_count(f"Camera.{name}", getattr(self, name)))
 
     @property
     def K(self) -> np.ndarray:
@@ -100,12 +106,11 @@ def textured_room(rng, size_m=(60.0, 60.0, 12.0), points: int = 3000) -> np.ndar
     size = as_vector("size_m", size_m, 3)
     if np.any(size <= 0):
         raise ValueError(f"size_m: expected three positive lengths, got {size.tolist()}")
-    if isinstance(points, bool) or not isinstance(points, (int, np.integer)) or points < 4:
-        raise ValueError(f"points: expected an int >= 4, got {points!r}")
+    points = as_count("points", points, low=4)
     n_len, e_len, h = size
     faces = np.array([e_len * h, e_len * h, n_len * h, n_len * h, n_len * e_len, n_len * e_len])
-    face = rng.choice(6, size=int(points), p=faces / faces.sum())
-    u = rng.uniform(-0.5, 0.5, (int(points), 3)) * size  # a point in the box, then pushed onto its face
+    face = rng.choice(6, size=points, p=faces / faces.sum())
+    u = rng.uniform(-0.5, 0.5, (points, 3)) * size  # a point in the box, then pushed onto its face
     u[:, 2] -= h / 2
     u[face == 0, 0], u[face == 1, 0] = n_len / 2, -n_len / 2
     u[face == 2, 1], u[face == 3, 1] = e_len / 2, -e_len / 2
@@ -193,12 +198,11 @@ def essential_ransac(x1, x2, rng, *, threshold: float = 1e-3, iterations: int = 
     poor ``E``."""
     x1, x2 = _matched(x1, x2)
     threshold = as_positive("threshold", threshold)
-    if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or iterations < 1:
-        raise ValueError(f"iterations: expected an int >= 1, got {iterations!r}")
+    iterations = as_count("iterations", iterations)
     confidence = as_probability("confidence", confidence)
     rng = as_rng(rng)
-    best, needed, fitted = np.zeros(len(x1), dtype=bool), int(iterations), []
-    for i in range(int(iterations)):
+    best, needed, fitted = np.zeros(len(x1), dtype=bool), iterations, []
+    for i in range(iterations):
         if i >= needed:
             break
         if i == len(fitted):  # the first 100 draws always happen (needed ≥ 100): fit them as one stack

@@ -28,7 +28,7 @@ from quadlib.engine.kernel import linear_kernels
 from quadlib.kernels import attitude as att
 from quadlib.kernels import quad3d as k
 from quadlib.model import Model, Sensor
-from quadlib.validation import as_finite_array, as_positive, as_vector
+from quadlib.validation import as_count, as_finite_array, as_positive, as_vector
 
 __all__ = ["imu_inputs", "quad3d_baro_sensor", "quad3d_gps_sensor", "quad3d_mag_sensor",
            "quad3d_model", "quad3d_ukf_options"]
@@ -135,8 +135,7 @@ def imu_inputs(dt_imu: float, accel, gyro, roll_pitch, decimate: int = 1) -> np.
     if accel.shape != (n, 3) or gyro.shape != (n, 3) or roll_pitch.shape != (n, 2):
         raise ValueError(f"accel, gyro, roll_pitch: expected shapes (N, 3), (N, 3), (N, 2), got "
                          f"{accel.shape}, {gyro.shape}, {roll_pitch.shape}")
-    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or not 1 <= decimate <= n:
-        raise ValueError(f"decimate: expected an int in [1, {n}], got {decimate!r}")
+    decimate = as_count("decimate", decimate, high=n)
     roll, pitch = roll_pitch[:, 0], roll_pitch[:, 1]
     yaw_rate = (np.sin(roll) * gyro[:, 1] + np.cos(roll) * gyro[:, 2]) / np.cos(pitch)
     u = np.column_stack([accel, yaw_rate, roll, pitch])

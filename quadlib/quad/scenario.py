@@ -30,7 +30,7 @@ from quadlib.quad.flight import (
 from quadlib.quad.quad3d import imu_inputs
 from quadlib.samples import Measurements, Samples
 from quadlib.sim.imu import imu_samples
-from quadlib.validation import as_instance
+from quadlib.validation import as_count, as_instance
 
 __all__ = ["Run3D", "imu_with_magnetometer", "run3d_measurements", "simulate_run3d"]
 
@@ -68,8 +68,7 @@ def simulate_run3d(flight: Flight3D, noise: SensorNoise3D, rng, decimate: int = 
     ``tau`` is the complementary filter's time constant [s]; ``true_attitude=True`` feeds the
     model the true roll and pitch instead (an oracle, to separate the attitude's share of the error).
     """
-    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or decimate < 1:
-        raise ValueError(f"decimate: expected an int >= 1, got {decimate!r}")
+    decimate = as_count("decimate", decimate)
     imu = imu_samples(flight, noise, rng)
     gps, mag = gps_samples(flight, noise, rng), mag_yaw_samples(flight, noise, rng)
     baro = baro_samples(flight, noise, rng)

@@ -19,7 +19,7 @@ import numpy as np
 from quadlib.constants import GRAVITY_N
 from quadlib.geometry.quaternion import as_unit_quaternions, quat_to_dcm
 from quadlib.imu import ImuLog, ImuNoise
-from quadlib.validation import as_rng, as_times, as_vector, as_vectors3
+from quadlib.validation import as_count, as_rng, as_times, as_vector, as_vectors3
 
 __all__ = ["BodyMotion", "imu_samples", "specific_force_at_rest"]
 
@@ -78,9 +78,7 @@ def imu_samples(motion, noise: ImuNoise, rng, field_n=None, mag_every: int = 1, 
     if not isinstance(noise, ImuNoise):
         raise TypeError(f"noise: expected an ImuNoise, got {type(noise).__name__}")
     rng = as_rng(rng)
-    for name, every in (("mag_every", mag_every), ("accel_every", accel_every)):
-        if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
-            raise ValueError(f"{name}: expected an int >= 1, got {every!r}")
+    mag_every, accel_every = as_count("mag_every", mag_every), as_count("accel_every", accel_every)
     t = np.asarray(motion.t, dtype=float)
     n = t.size
     walk = 0.0

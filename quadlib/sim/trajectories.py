@@ -8,7 +8,7 @@ import numpy as np
 
 from quadlib.constants import G0
 from quadlib.samples import Samples
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_rng
+from quadlib.validation import as_count, as_finite_array, as_finite_number, as_positive, as_rng
 
 __all__ = ["VerticalRun", "min_jerk", "piecewise_constant", "step_profile", "vertical_sine"]
 
@@ -96,8 +96,7 @@ def vertical_sine(duration_s: float, rng, amplitude_m: float = 5.0, period_s: fl
     altitude = amplitude * np.sin(w * t)
     a_z = G0 - amplitude * w**2 * np.sin(w * t) + rng.normal(0.0, as_positive("accel_sigma_m_s2", accel_sigma_m_s2),
                                                               t.size)
-    if isinstance(baro_every, bool) or not isinstance(baro_every, (int, np.integer)) or baro_every < 1:
-        raise ValueError(f"baro_every: expected an int >= 1, got {baro_every!r}")
+    baro_every = as_count("baro_every", baro_every)
     k = np.arange(0, t.size, baro_every)
     baro = altitude[k] + rng.normal(0.0, as_positive("baro_sigma_m", baro_sigma_m), k.size)
     return VerticalRun(t, altitude, a_z, Samples(t[k], baro))

@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.animation import FuncAnimation
 
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_times
+from quadlib.validation import as_count, as_finite_array, as_finite_number, as_positive, as_times
 
 __all__ = ["animate_quad2d", "animation_html", "quad2d_geometry"]
 
@@ -101,12 +101,10 @@ def animate_quad2d(t, x_true, wall_y_m: float, *, estimate=None, sigma=None, n_f
         for name, arr in (("estimate", estimate), ("sigma", sigma)):
             if arr.shape != x_true.shape:
                 raise ValueError(f"{name}: expected shape {x_true.shape}, got {arr.shape}")
-    if isinstance(n_frames, bool) or not isinstance(n_frames, (int, np.integer)) or not 1 <= n_frames <= t.size:
-        raise ValueError(f"n_frames: expected an int in [1, {t.size}], got {n_frames!r}")
-    if isinstance(dpi, bool) or not isinstance(dpi, (int, np.integer)) or dpi < 1:
-        raise ValueError(f"dpi: expected an int >= 1, got {dpi!r}")
+    n_frames = as_count("n_frames", n_frames, high=t.size)
+    dpi = as_count("dpi", dpi)
     wall, arm_m = as_finite_number("wall_y_m", wall_y_m), as_positive("arm_m", arm_m)
-    frames = np.linspace(0, t.size - 1, int(n_frames)).round().astype(int)
+    frames = np.linspace(0, t.size - 1, n_frames).round().astype(int)
 
     fig, ax = plt.subplots(figsize=(6, 2.2), dpi=dpi, layout="constrained")
     ax.set_xlim(min(x_true[:, 2].min(), wall) - 0.8, wall + 0.3)

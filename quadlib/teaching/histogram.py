@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
-from quadlib.validation import as_finite_array, as_finite_number, as_positive, as_probability
+from quadlib.validation import as_count, as_finite_array, as_finite_number, as_positive, as_probability
 
 __all__ = ["belief_mean_std", "gaussian_belief", "gaussian_kernel", "gaussian_likelihood", "uniform_grid"]
 
@@ -50,11 +50,9 @@ def gaussian_kernel(sigma_cells: float, half_width: int | None = None) -> np.nda
     ``half_width`` defaults to ``ceil(5 sigma)``; the length is ``2 half_width + 1``.
     """
     s = as_positive("sigma_cells", sigma_cells)
-    if half_width is not None and (isinstance(half_width, bool) or not isinstance(half_width, (int, np.integer))):
-        raise TypeError(f"half_width: expected an integer >= 0, got {half_width!r}")
-    half = int(np.ceil(5 * s)) if half_width is None else int(half_width)
-    if half < 0:
-        raise ValueError(f"half_width: expected an integer >= 0, got {half_width!r}")
+    if half_width is not None:
+        half_width = as_count("half_width", half_width, low=0)
+    half = int(np.ceil(5 * s)) if half_width is None else half_width
     if half == 0:
         return np.ones(1)  # all mass stays in its cell
     return gaussian_belief(np.arange(-half, half + 1, dtype=float), 0.0, s)
