@@ -167,12 +167,9 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
     gyro_th, accel_th = as_positive("gyro_rad_s", gyro_rad_s), as_positive("accel_m_s2", accel_m_s2)
     min_s, tau = as_positive("min_s", min_s), as_positive("tau_s", tau_s)
     calm = calm_samples(log.t, log.gyro, log.accel, gyro_th, accel_th, tau)
-    rest = np.zeros_like(calm)
-    since = None
-    for k in range(len(log)):
-        since = (log.t[k] if since is None else since) if calm[k] else None
-        rest[k] = since is not None and log.t[k] - since >= min_s
-    return rest
+    starts = calm & ~np.r_[False, calm[:-1]]  # the first sample of each calm run
+    since = log.t[np.maximum.accumulate(np.where(starts, np.arange(len(log)), 0))]
+    return calm & (log.t - since >= min_s)
 
 
 def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray | None]:
@@ -337,14 +334,18 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
     offline, compiled = as_bool("offline", offline), as_bool("compiled", compiled)
     declination_rad = as_finite_number("declination_rad", declination_rad)
     engine = "auto" if compiled else "readable"
+    start = _initial_attitude(log, declination_rad)
+    rest = None if params.rest_min_s is None else rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2,
+                                                              params.rest_min_s)
     if params.accel_tau_s is None:
-        run, model = _orientation_pass(log, params, declination_rad, log.accel, offline, engine)
+        run, model = _orientation_pass(log, params, declination_rad, start, rest, log.accel, offline, engine)
     else:
         tau, alpha = params.accel_tau_s, params.gyro_gap_accel_rad_s2
-        first, _ = _orientation_pass(log, params, declination_rad, inertial_lowpass(log, tau, gap_accel_rad_s2=alpha),
-                                     offline, engine)
+        first, _ = _orientation_pass(log, params, declination_rad, start, rest,
+                                     inertial_lowpass(log, tau, gap_accel_rad_s2=alpha), offline, engine)
         gravity = inertial_lowpass(log, tau, first.x[:, 4:], two_sided=offline, gap_accel_rad_s2=alpha)
-        run, model = _orientation_pass(log, params, declination_rad, gravity, offline, engine, first.x[:, :4])
+        run, model = _orientation_pass(log, params, declination_rad, start, rest, gravity, offline, engine,
+                                       first.x[:, :4])
     if offline:
         run = rts_smooth(model, run, _gyro_input(log, params), engine=engine)
     return replace(run, layout=dict(LAYOUT))
@@ -356,14 +357,15 @@ def _gyro_input(log: ImuLog, params: OrientationParams) -> np.ndarray:
     return log.gyro if params.gyro_gap_accel_rad_s2 is None else gyro_with_gaps(log.t, log.gyro)
 
 
-def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, gravity, offline: bool,
-                      engine: str, attitude=None):
-    """One filter pass with ``gravity`` as the accelerometer; ``attitude`` (a first pass's ``q_nb``)
+def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, start, rest, gravity,
+                      offline: bool, engine: str, attitude=None):
+    """One filter pass from ``start`` (:func:`_initial_attitude`'s), with the zero-rate update where
+    ``rest`` (None: never) and ``gravity`` as the accelerometer; ``attitude`` (a first pass's ``q_nb``)
     is the down direction the field's dip is checked against (else the accelerometer's)."""
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     accel = np.where(good_a[:, None], gravity, np.nan)
-    q0, field_n = _initial_attitude(log, declination_rad)
+    q0, field_n = start
     has_mag = field_n is not None
     if has_mag:
         down = -accel / np.linalg.norm(accel, axis=1, keepdims=True) if attitude is None else \
@@ -388,8 +390,7 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
             heading = replace(heading, reset_after_s=params.heading_reset_s, reset_needs_agreement=True)
         measurements.append(Measurements(heading, log.t,
                                          np.full(len(log), declination_rad), context=context))
-    if params.rest_min_s is not None:
-        rest = rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2, params.rest_min_s)
+    if rest is not None:
         measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
                                          np.where(rest[:, None], log.gyro, np.nan)))
     run = run_filter(ekf, log.t, _gyro_input(log, params), measurements, gate_probability=params.gate_probability,
