@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from quadlib.validation import _converted, as_bool, as_count, as_covariance, as_finite_array, as_positive, as_vector
+from quadlib.validation import as_bool, as_count, as_covariance, as_finite_array, as_optional, as_positive, as_vector
 
 __all__ = ["Model", "Sensor"]
 
@@ -297,9 +297,8 @@ class Sensor:
         if self.reset_after_s is not None:
             object.__setattr__(self, "reset_after_s",
                                as_positive(f"Sensor({self.name!r}).reset_after_s", self.reset_after_s))
-        if self.stuck_samples is not None:
-            object.__setattr__(self, "stuck_samples", _converted(
-                as_count, f"Sensor({self.name!r}).stuck_samples", self.stuck_samples, True, low=2))
+        object.__setattr__(self, "stuck_samples", as_optional(
+            as_count, f"Sensor({self.name!r}).stuck_samples", self.stuck_samples, low=2))
         try:
             uncorrected = tuple(self.uncorrected)
         except TypeError:

@@ -13,7 +13,7 @@ from collections.abc import Iterable
 
 from tqdm.auto import tqdm
 
-from quadlib.validation import _converted, as_count
+from quadlib.validation import as_count, as_optional
 
 __all__ = ["ENV_VAR", "progress", "progress_enabled", "switch_off"]
 
@@ -38,8 +38,7 @@ def progress(iterable: Iterable, label: str, total: int | None = None) -> Iterab
     """
     if not isinstance(label, str) or not label:
         raise TypeError(f"label: expected a non-empty str, got {label!r}")
-    if total is not None:
-        total = _converted(as_count, "total", total, True, low=0)
+    total = as_optional(as_count, "total", total, low=0)
     if not isinstance(iterable, Iterable):
         raise TypeError(f"iterable: expected an iterable, got {type(iterable).__name__}")
     if not progress_enabled():

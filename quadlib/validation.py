@@ -276,13 +276,14 @@ _EXPECTED = {"finite": "a finite number", "positive": "a finite number > 0", "no
 _CONVERTED = {"count": as_count, "bool": as_bool}  # checked, and stored as the int or bool they return
 
 
-def _converted(convert, name: str, value, optional: bool, **options):
-    """``convert(name, value, **options)``; for an optional field its error also says None is allowed."""
+def as_optional(convert, name: str, value, **options):
+    """None for None, else ``convert(name, value, **options)`` (:func:`as_count`, :func:`as_bool` …),
+    whose error then also says that None is allowed."""
+    if value is None:
+        return None
     try:
         return convert(name, value, **options)
     except (TypeError, ValueError) as err:
-        if not optional:
-            raise
         raise type(err)(str(err).replace(", got ", " or None, got ", 1)) from None
 
 
@@ -297,8 +298,8 @@ def check_fields(obj, kinds: dict[str, str]) -> None:
         optional = kind.startswith("optional ")
         convert = _CONVERTED.get(kind.removeprefix("optional "))
         if convert is not None:
-            if not (optional and value is None):
-                object.__setattr__(obj, name, _converted(convert, f"{type(obj).__name__}.{name}", value, optional))
+            label = f"{type(obj).__name__}.{name}"
+            object.__setattr__(obj, name, as_optional(convert, label, value) if optional else convert(label, value))
         elif not _field_ok(kind, value):
             base = kind.removeprefix("optional ").removesuffix(" or 3")
             expected = _EXPECTED[base] + (" (or 3 of them, one per axis)" if kind.endswith(" or 3") else "")

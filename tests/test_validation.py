@@ -9,6 +9,7 @@ from quadlib.validation import (
     as_covariance,
     as_finite_array,
     as_matrix,
+    as_optional,
     as_positive,
     as_probability,
     as_vector,
@@ -150,3 +151,12 @@ def test_count_and_bool_fields_store_what_as_count_and_as_bool_return():
     assert _Flags(every=None).every is None
     with pytest.raises(ValueError, match=r"^_Flags.every: expected an int >= 1 or None, got 0$"):
         _Flags(every=0)
+
+
+def test_as_optional_passes_none_and_says_so_when_it_refuses():
+    assert as_optional(as_count, "n", None, low=2) is None
+    assert as_optional(as_count, "n", 3, low=2) == 3
+    with pytest.raises(ValueError, match=r"^n: expected an int >= 2 or None, got 1$"):
+        as_optional(as_count, "n", 1, low=2)
+    with pytest.raises(TypeError, match=r"^flag: expected True or False or None, got 'yes'$"):
+        as_optional(as_bool, "flag", "yes")
