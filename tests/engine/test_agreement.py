@@ -77,3 +77,12 @@ def test_readings_that_scatter_stay_refused_where_a_plain_reset_takes_them():
     assert abs(agreeing.x[-1, 0]) < 0.05
     assert plain.sensors["level"].reset.any() and plain.x[-1, 0] > 1.0  # the plain reset follows it
 
+
+
+def test_a_reset_that_waits_for_agreement_needs_a_definite_r_and_a_reset():
+    with pytest.raises(ValueError, match=r"Sensor\('a'\).R: expected a positive definite covariance with "
+                                         r"reset_needs_agreement .*got smallest eigenvalue 0"):
+        Sensor("a", ("a", "b"), h=lambda x: x, R=[[1.0, 1.0], [1.0, 1.0]], reset_after_s=1.0,
+               reset_needs_agreement=True)
+    with pytest.raises(ValueError, match=r"reset_needs_agreement: expected False without reset_after_s"):
+        Sensor("a", ("a",), h=lambda x: x, R=[[1.0]], reset_needs_agreement=True)
