@@ -147,6 +147,14 @@ def compare(run, kind: str, reference, flight) -> list[str]:
     return lines
 
 
+def sensor_use(run) -> list[str]:
+    """One line per update: how many samples it applied, how many the χ² gate refused, and how
+    often a lock-out was reset (samples the filter never had, or skipped as implausible, are not
+    counted)."""
+    return [f"{name}: {int(trace.used.sum())} updates, {int(trace.rejected.sum())} refused by the gate, "
+            f"{int(trace.reset.sum())} resets" for name, trace in run.sensors.items()]
+
+
 def plot(path: Path, run, kind: str, reference, flight) -> None:
     """Euler angles (and, for the INS, position) against the reference, to ``path``."""
     import matplotlib
@@ -213,7 +221,7 @@ def main(argv: list[str] | None = None) -> int:
     np.savetxt(args.out, rows, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
     print(f"{args.log.name}: {len(imu)} IMU samples over {imu.t[-1] - imu.t[0]:.1f} s, {kind} filter"
           f"{' (smoothed)' if args.offline else ''}, declination {np.degrees(declination):.2f}° ({source})")
-    for line in compare(run, kind, reference, flight):
+    for line in compare(run, kind, reference, flight) + sensor_use(run):
         print(line)
     print(f"wrote {args.out}")
     if args.plot is not None:

@@ -23,6 +23,8 @@ def test_a_ulog_without_gps_gets_the_orientation_filter_and_agrees_with_px4(tmp_
         assert main(["estimate", str(data_path("px4/sample.ulg")), "--out", str(out), "--plot", str(png)]) == 0
     printed = capsys.readouterr().out
     assert "orientation filter" in printed
+    heading = next(line for line in printed.splitlines() if line.startswith("heading: "))
+    assert int(heading.split("heading: ")[1].split(" updates")[0]) > 1000 and heading.endswith(" resets")
     rms = float(printed.split("reference: ")[1].split("°")[0])
     assert rms < 1.0
     names, rows = _read(out)
