@@ -312,14 +312,15 @@ class Sensor:
         object.__setattr__(self, "uncorrected", uncorrected)
         for flag in ("gated", "vectorized", "reset_needs_agreement"):
             object.__setattr__(self, flag, as_bool(f"Sensor({self.name!r}).{flag}", getattr(self, flag)))
-        if self.reset_needs_agreement and self.reset_after_s is None:
-            raise ValueError(f"Sensor({self.name!r}).reset_needs_agreement: expected False without reset_after_s "
-                             "(there is no reset to condition), got True")
-        smallest = np.linalg.eigvalsh(self.R).min() if self.reset_needs_agreement else 1.0
-        if smallest <= 0.0:
-            raise ValueError(f"Sensor({self.name!r}).R: expected a positive definite covariance with "
-                             "reset_needs_agreement (the refused readings are whitened by it), got smallest "
-                             f"eigenvalue {smallest:.3g}")
+        if self.reset_needs_agreement:
+            if self.reset_after_s is None:
+                raise ValueError(f"Sensor({self.name!r}).reset_needs_agreement: expected False without "
+                                 "reset_after_s (there is no reset to condition), got True")
+            smallest = np.linalg.eigvalsh(self.R).min()
+            if smallest <= 0.0:
+                raise ValueError(f"Sensor({self.name!r}).R: expected a positive definite covariance with "
+                                 "reset_needs_agreement (the refused readings are whitened by it), got smallest "
+                                 f"eigenvalue {smallest:.3g}")
         for attr in ("h", "residual") + tuple(a for a in ("H", "mean") if getattr(self, a) is not None):
             if not callable(getattr(self, attr)):
                 raise TypeError(f"Sensor({self.name!r}).{attr}: expected a callable, got {getattr(self, attr)!r}")

@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from quadlib.kernels.linalg import scatter_agrees
+from quadlib.kernels.linalg import add_refused, scatter_agrees
 from quadlib.model import Sensor
 from quadlib.model_filter import ModelFilter, agreement_test, group_gates
 from quadlib.samples import Measurements
@@ -151,29 +151,24 @@ class _Log:
         self.sensor, self.tol, self.gates = sensor, tol, gates
         self.locked_since = [None] * len(sensor.groups)  # per group: since when the gate rejects it
         self.agreement = agreement  # (W, z) of agreement_test, when a reset needs the refused readings to agree
-        self.refused = [None] * len(sensor.groups)  # per group: [count, Σ w, Σ |w|²] of the readings refused since
+        self.refused = np.zeros((len(sensor.groups), sensor.dim_z + 2))  # per group: its lock-out's (add_refused)
+        self.row_group = np.empty(sensor.dim_z, np.int64)
+        for g, rows in enumerate(sensor.groups):
+            self.row_group[list(rows)] = g
         self.last_t, self.last_z, self.equal_run = None, None, 0  # the duplicate and stuck rules
         self.rows = []  # per sample: (t, z, context, innovation or None, missing, duplicate)
 
     def note_refused(self, inn) -> None:
         """Add the groups the gate refused in ``inn`` to their lock-outs' whitened readings."""
-        W, _ = self.agreement
-        w = W @ inn.y
-        for g in inn.rejected_groups:
-            rows = list(self.sensor.groups[g])
-            if self.refused[g] is None:
-                self.refused[g] = [0.0, np.zeros(len(w)), 0.0]
-            acc = self.refused[g]
-            acc[0] += 1.0
-            acc[1][rows] += w[rows]
-            acc[2] += float(w[rows] @ w[rows])
+        rejected = np.zeros(len(self.sensor.groups), np.bool_)
+        rejected[list(inn.rejected_groups)] = True
+        add_refused(self.refused, self.agreement[0] @ inn.y, self.row_group, rejected)
 
     def agreed(self, g: int) -> bool:
         """The readings group ``g``'s lock-out refused agree with one another (True when not asked)."""
         if self.agreement is None:
             return True
-        count, total, squares = self.refused[g]
-        return bool(scatter_agrees(count, total, squares, float(len(self.sensor.groups[g])), self.agreement[1]))
+        return bool(scatter_agrees(self.refused[g], float(len(self.sensor.groups[g])), self.agreement[1]))
 
     def screen(self, t_j: float, z: np.ndarray, c) -> tuple[bool, bool]:
         """``(missing, duplicate)`` of the next sample, in the order the sensor took them."""
@@ -383,11 +378,11 @@ class FilterStepper:
                 filt.inflate_toward(sensor, z, expired, c)
                 inn = filt.update_unchecked(sensor, z, gates, c, force=expired)._replace(reset=True)
                 for g in expired:
-                    since[g], log.refused[g] = None, None
+                    since[g], log.refused[g] = None, 0.0
         if gates is not None:
             for g in range(len(sensor.groups)):
                 if g not in inn.rejected_groups:
-                    since[g], log.refused[g] = None, None
+                    since[g], log.refused[g] = None, 0.0
         log.rows.append((t_j, z, c, inn, False, False))
 
     # results -----------------------------------------------------------------------------

@@ -33,6 +33,7 @@ from quadlib.fixedwing import (
     salmony_ekf,
 )
 from quadlib.imu import ImuNoise
+from quadlib.kernels.linalg import add_refused, scatter_agrees
 from quadlib.nav import InsParams, estimate_ins
 from quadlib.perception import cast_rays, corridor_map
 from quadlib.quad import SensorNoise3D, estimate_quad3d, quad3d_ekf, quad3d_ukf, simulate_run3d, square_course
@@ -59,6 +60,9 @@ def main() -> None:
     for sensor, context in ((heading_sensor(0.1, tilt_aware=True), short.mag[0]), (gravity_sensor(0.5), None)):
         ekf.update_sensor(sensor, sensor.h(ekf.estimate, context) if context is not None else short.accel[0],
                           context=context)
+    refused = np.zeros((1, 3))  # a readable reset that waits for agreement: its two kernels from Python
+    add_refused(refused, np.zeros(1), np.zeros(1, np.int64), np.ones(1, np.bool_))
+    scatter_agrees(refused[0], 1.0, 3.0)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)

@@ -19,7 +19,7 @@ from numba import njit
 from quadlib.engine.dispatch import measure, residual, state_add
 from quadlib.engine.ekf import ADD, ekf_correct, ekf_predict
 from quadlib.engine.ukf import ukf_correct, ukf_predict
-from quadlib.kernels.linalg import product, scatter_agrees, times
+from quadlib.kernels.linalg import add_refused, product, scatter_agrees, times
 
 __all__ = ["filter_pass"]
 
@@ -86,20 +86,6 @@ def _widened(m, sens, s, x, P, z, c, expired):
 
 
 @njit(cache=True)
-def _note_refused(acc, w, group, rejected):
-    """Add a whitened reading ``w`` to the lock-out of each group the gate ``rejected``: ``acc[g]`` holds
-    ``Σ w`` (its rows), the count and ``Σ |w|²`` (:meth:`quadlib.stepper._Log.note_refused`)."""
-    k_max = acc.shape[1] - 2
-    for g in range(rejected.shape[0]):
-        if rejected[g]:
-            acc[g, k_max] += 1.0
-            for r in range(w.shape[0]):
-                if group[r] == g:
-                    acc[g, r] += w[r]
-                    acc[g, k_max + 1] += w[r] * w[r]
-
-
-@njit(cache=True)
 def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
     """The forward pass over a log of times ``t (N,)`` and held inputs ``u (N, m)``, from ``x0``, ``P0``
     with ``Q = Q(q_dt)`` computed last; a UKF's when ``sigma`` has weights, else an EKF's. Returns
@@ -114,7 +100,7 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
     used, rejected = np.zeros((n_sensors, K), np.bool_), np.zeros((n_sensors, K), np.bool_)
     reset = np.zeros((n_sensors, K), np.bool_)
     since = np.full((n_sensors, sensors.gates.shape[1]), np.nan)  # when each group's lock-out began
-    refused = np.zeros((n_sensors, sensors.gates.shape[1], k_max + 2))  # its whitened readings: Σ w, count, Σ |w|²
+    refused = np.zeros((n_sensors, sensors.gates.shape[1], k_max + 2))  # its whitened readings (add_refused)
     no_force = np.zeros(sensors.gates.shape[1], np.bool_)
     next_sample = np.zeros(n_sensors, np.int64)
     every_row = np.arange(k_max)
@@ -139,15 +125,13 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
                     t_j = samples.t[s, j]
                     agreeing = not np.isnan(sensors.agree_z[s])
                     if agreeing:
-                        _note_refused(refused[s], times(sensors.whiten[s, :kz, :kz], y[:kz]), sensors.group[s, :kz],
-                                      rej)
+                        add_refused(refused[s], times(sensors.whiten[s, :kz, :kz], y[:kz]), sensors.group[s, :kz], rej)
                     expired = np.zeros(ng, np.bool_)
                     for g in range(ng):
                         if rej[g]:
                             expired[g] = not np.isnan(since[s, g]) and t_j - since[s, g] >= sensors.reset_after_s[s]
                             if expired[g] and agreeing:
-                                acc, size = refused[s, g], float(np.sum(sensors.group[s, :kz] == g))
-                                expired[g] = scatter_agrees(acc[k_max], acc[:k_max], acc[k_max + 1], size,
+                                expired[g] = scatter_agrees(refused[s, g], float(np.sum(sensors.group[s, :kz] == g)),
                                                             sensors.agree_z[s])
                             if np.isnan(since[s, g]):
                                 since[s, g] = t_j

@@ -109,18 +109,34 @@ def positive_definite(P):
 
 
 @njit(cache=True)
-def scatter_agrees(count, total, squares, dof_per_reading, z):
-    """Whether ``count`` whitened readings (noise ``R`` made unit: their ``total`` and the sum of their
-    squared norms, ``squares``) scatter about their own mean no more than noise ``R`` would: the
-    scatter ``Σ|wᵢ − w̄|² = squares − |total|²/count`` within the χ² quantile of ``(count − 1) ·
-    dof_per_reading`` degrees of freedom at the normal quantile ``z`` (Wilson & Hilferty's
+def add_refused(acc, w, group, rejected):
+    """Add a whitened reading ``w`` (one value per row, ``group[r]`` the row's group) to the lock-out of
+    each group the gate ``rejected``. ``acc (g, k + 2)`` holds, per group, ``Σ w`` over its rows, then the
+    count of readings, then ``Σ |w|²``: what :func:`scatter_agrees` tests."""
+    k = acc.shape[1] - 2
+    for g in range(rejected.shape[0]):
+        if rejected[g]:
+            acc[g, k] += 1.0
+            for r in range(w.shape[0]):
+                if group[r] == g:
+                    acc[g, r] += w[r]
+                    acc[g, k + 1] += w[r] * w[r]
+
+
+@njit(cache=True)
+def scatter_agrees(acc, dof_per_reading, z):
+    """Whether the whitened readings of one lock-out (noise ``R`` made unit; ``acc`` is their
+    :func:`add_refused` row: ``Σ w``, the count ``n``, ``Σ |w|²``) scatter about their own mean no more
+    than noise ``R`` would: the scatter ``Σ|wᵢ − w̄|² = Σ |w|² − |Σ w|²/n`` within the χ² quantile of
+    ``(n − 1) · dof_per_reading`` degrees of freedom at the normal quantile ``z`` (Wilson & Hilferty's
     approximation, ``ν (1 − a + z √a)³`` with ``a = 2 / 9ν``; at 0.999 within 2 % of the quantile from
     ν = 3, 0.6 % from ν = 10)."""
+    k = acc.shape[0] - 2
+    count, scatter = acc[k], acc[k + 1]
     if count < 2:
         return False
-    scatter = squares
-    for i in range(total.shape[0]):
-        scatter -= total[i] * total[i] / count
+    for i in range(k):
+        scatter -= acc[i] * acc[i] / count
     dof = (count - 1) * dof_per_reading
     a = 2.0 / (9.0 * dof)
     return scatter <= dof * (1.0 - a + z * math.sqrt(a)) ** 3

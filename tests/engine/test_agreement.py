@@ -11,7 +11,7 @@ import pytest
 from scipy.stats import chi2
 
 from quadlib import Measurements, Model, ModelEKF, Sensor, run_filter
-from quadlib.kernels.linalg import scatter_agrees
+from quadlib.kernels.linalg import add_refused, scatter_agrees
 from quadlib.model_filter import agreement_test
 
 
@@ -23,19 +23,23 @@ def test_the_bound_is_the_chi2_quantile_within_two_percent(dof, probability):
     for spread, expected in ((0.98 * quantile, True), (1.02 * quantile, False)):
         # dof + 1 readings, all 0 but the last, w: their scatter is w² − w²/(dof + 1) = spread
         w = np.sqrt(spread * (dof + 1) / dof)
-        assert scatter_agrees(float(dof + 1), np.array([w]), w * w, 1.0, z) is expected
+        assert scatter_agrees(np.array([w, dof + 1.0, w * w]), 1.0, z) is expected
 
 
 def test_the_scatter_is_about_the_readings_own_mean():
     rng = np.random.default_rng(1)
     w = rng.normal(size=(50, 2)) + [30.0, -40.0]  # far off zero, yet agreeing: unit noise about a mean
+    acc = np.zeros((1, 4))  # one group of two rows: Σ w, the count, Σ |w|²
+    for reading in w:
+        add_refused(acc, reading, np.zeros(2, np.int64), np.ones(1, np.bool_))
     total, squares = w.sum(axis=0), float((w**2).sum())
+    np.testing.assert_allclose(acc[0], np.r_[total, 50.0, squares], rtol=1e-12)
     scatter = float(((w - w.mean(axis=0)) ** 2).sum())
     z = agreement_test(Sensor("a", ("a", "b"), h=lambda x: x, R=np.eye(2)), 0.999)[1]
     assert scatter < chi2.ppf(0.999, 98) < squares  # about their mean they agree; about zero they would not
-    assert scatter_agrees(50.0, total, squares, 2.0, z)
-    assert not scatter_agrees(50.0, 3.0 * total, 9.0 * squares, 2.0, z)  # the same readings × 3
-    assert not scatter_agrees(1.0, w[0], float(w[0] @ w[0]), 2.0, z)  # one reading cannot agree
+    assert scatter_agrees(acc[0], 2.0, z)
+    assert not scatter_agrees(np.r_[3.0 * total, 50.0, 9.0 * squares], 2.0, z)  # the same readings × 3
+    assert not scatter_agrees(np.r_[w[0], 1.0, w[0] @ w[0]], 2.0, z)  # one reading cannot agree
 
 
 def test_the_whitening_makes_each_groups_noise_unit():
