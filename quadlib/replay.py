@@ -33,8 +33,9 @@ import numpy as np
 from quadlib.engine import runner
 from quadlib.model import Model
 from quadlib.model_filter import ModelFilter
+from quadlib.runs import FilterDivergedError, FilterRun, SensorTrace, first_steps
 from quadlib.samples import Measurements, time_resolution
-from quadlib.stepper import FilterDivergedError, FilterRun, FilterStepper, SensorTrace, first_steps
+from quadlib.stepper import FilterStepper
 from quadlib.validation import as_float_array, as_probability, as_times
 
 __all__ = ["FilterDivergedError", "FilterRun", "SensorTrace", "rts_smooth", "run_filter"]

@@ -8,7 +8,8 @@ from quadlib import Measurements, Model, ModelEKF, ModelUKF, Sensor, run_filter
 from quadlib.control import altitude_step, fly, fly_path, hold_distance
 from quadlib.quad import quad2d_model, quad2d_range_sensor
 from quadlib.quad.flight import figure_eight
-from quadlib.stepper import FilterDivergedError, FilterStepper, Sample
+from quadlib.runs import FilterDivergedError
+from quadlib.stepper import FilterStepper, Sample
 
 
 def _replay(stepper, gate_probability, engine):
