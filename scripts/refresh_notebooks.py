@@ -29,6 +29,20 @@ def normalise(nb: nbformat.NotebookNode) -> None:
     }
     for cell in nb.cells:
         cell.metadata = {k: v for k, v in cell.metadata.items() if k in KEEP_CELL_METADATA}
+        if cell.cell_type == "code":
+            cell.outputs = coalesced(cell.outputs)
+
+
+def coalesced(outputs: list) -> list:
+    """The outputs with each run of one stream's pieces joined: how a print is split depends on timing."""
+    joined = []
+    for out in outputs:
+        last = joined[-1] if joined else None
+        if out.output_type == "stream" and last is not None and last.output_type == "stream" and last.name == out.name:
+            last.text += out.text
+        else:
+            joined.append(out)
+    return joined
 
 
 def refresh(path: Path) -> float:

@@ -138,7 +138,8 @@ def test_a_magnetometer_the_filter_cannot_use_is_named_with_why():
     with pytest.warns(UserWarning, match=r"^mag: expected at least one reading that gives a heading, got none"):
         estimate_orientation(T, GYR, ACC, np.full_like(MAG, np.nan))
     far_off = MAG.copy()
-    far_off[50:] *= 3.0  # a field three times the start's: every later reading fails the strength check
+    # a magnet moving about: 1.5 to 4.5 times the start's field, every later reading fails the strength check
+    far_off[50:] *= 3.0 + 1.5 * np.sin(2 * np.pi * T[50:] / 5.0)[:, None]
     with pytest.warns(UserWarning, match=r"^mag: the heading update used \d+ of its 20000 readings \(\d+ failed the "
                                          r"plausibility checks, \d+ were refused by the χ² gate\)"):
         estimate_orientation(T, GYR, ACC, far_off)

@@ -45,6 +45,8 @@ from quadlib.validation import (
     check_fields,
 )
 
+NEW_FIELD_MIN_RATE_RAD_S = float(np.radians(20.0))  # VQF's magNewMinGyr
+
 __all__ = ["SensorChecks", "plausible_accel", "plausible_mag", "settled", "undisturbed_field"]
 
 
@@ -149,7 +151,7 @@ def settled(ok, present, t, settle_s: float) -> np.ndarray:
 
 
 def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: float = 0.0, tau_s: float = 0.05,
-                      learn_tau_s: float | None = 20.0) -> np.ndarray:
+                      learn_tau_s: float | None = 20.0, gyro=None, new_field_s: float | None = None) -> np.ndarray:
     """``(N,)`` bool: the magnetometer reads an undisturbed field, judged on a short average.
 
     :func:`plausible_mag` judges each reading alone, and a noisy magnetometer's single readings
@@ -157,7 +159,8 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     with a settle time refused 44 % of the readings of trial 30 while the sensor moved, and the
     heading drifted between the few it kept. Here, as in VQF's magnetic disturbance rejection
     (Laidig & Seel 2023), the norm and the dip are first low-passed (first order, ``tau_s``), then
-    checked with the tolerances of ``checks`` against a reference: ``field_n`` at the start, which
+    checked with the tolerances of ``checks`` against a reference: ``field_n`` at the start (None:
+    the first reading's norm, and its dip against ``down``), which
     then follows the averaged field (``learn_tau_s``; None: it stays) while the field is trusted,
     as the Earth's field changes from place to place (``tau_s`` 0 and ``learn_tau_s`` None: each
     reading judged alone against ``field_n``, as :func:`plausible_mag` does). The dip is measured
@@ -165,6 +168,14 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     rows: unknown, the dip not checked). A reading is trusted once the checks have passed for
     ``settle_s`` seconds (from the start they pass); stuck readings never are. The average lets
     the first reading or two of a sudden disturbance through, until it crosses the tolerance.
+
+    A reference can be wrong for good: taken from a first reading disturbed, or tilted by a
+    translation's acceleration, or left behind in another room. So, as VQF accepts a new field
+    (``magNewTime``), a refused field whose norm and dip hold within the tolerances of their own
+    average for ``new_field_s`` seconds while the sensor turns faster than 20 °/s (``gyro``
+    [rad/s], (N, 3), low-passed over 0.5 s) becomes the reference. A magnet fixed to the board
+    turns with it, so its field's norm and dip change as the board turns; the Earth's do not.
+    None (or no ``gyro``): the reference is never replaced.
     """
     checks = as_instance("checks", checks, SensorChecks)
     t = as_times("t", t)
@@ -172,15 +183,26 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     d = _samples3("down", down)
     if m.shape[0] != t.size or d.shape[0] != t.size:
         raise ValueError(f"mag, down: expected one row per time, shape {(t.size, 3)}, got {m.shape} and {d.shape}")
-    field = as_vectors3("field_n", field_n)
+    if field_n is None:
+        strength, dip0 = np.nan, np.nan
+    else:
+        field = as_vectors3("field_n", field_n)
+        strength = float(np.linalg.norm(field))
+        dip0 = float(np.arcsin(field[2] / strength))
     settle_s = as_positive("settle_s", settle_s, allow_zero=True)
     tau = as_positive("tau_s", tau_s, allow_zero=True)
     learn = np.inf if learn_tau_s is None else as_positive("learn_tau_s", learn_tau_s)
-    strength = float(np.linalg.norm(field))
+    new_s = np.inf if new_field_s is None else as_positive("new_field_s", new_field_s)
+    if gyro is None:
+        w, new_s = np.zeros((t.size, 3)), np.inf
+    else:
+        w = _samples3("gyro", gyro)
+        if w.shape[0] != t.size:
+            raise ValueError(f"gyro: expected one row per time, shape {(t.size, 3)}, got {w.shape}")
     norm_tol = np.inf if checks.mag_norm_tolerance is None else checks.mag_norm_tolerance
     dip_tol = np.inf if checks.mag_dip_tolerance_rad is None else checks.mag_dip_tolerance_rad
-    ok = undisturbed_field_pass(t, np.nan_to_num(m, nan=0.0), d, strength, float(np.arcsin(field[2] / strength)),
-                                norm_tol, dip_tol, settle_s, tau, learn)
+    ok = undisturbed_field_pass(t, np.nan_to_num(m, nan=0.0), d, w, strength, dip0,
+                                norm_tol, dip_tol, settle_s, tau, learn, new_s, NEW_FIELD_MIN_RATE_RAD_S)
     if checks.mag_stuck_samples is not None:
         ok &= ~stuck_rows(m, checks.mag_stuck_samples)
     return ok

@@ -113,6 +113,10 @@ class OrientationParams:
         would reach the bias, so each reading is judged alone against the start's field, which
         refuses more (on the ten BROAD trials the smoother's mean total error is 1.43° so, 1.62°
         with the average and the learnt reference).
+    mag_new_field_s : float or None
+        A refused field that holds steady for this long [s] while the sensor turns faster than
+        20 °/s becomes the new reference (VQF's 20 s, ``magNewTime``): a reference taken from a
+        disturbed or accelerated first reading is not kept for good. None: never replaced.
     rest_gyro_rad_s, rest_accel_m_s2 : float
         At rest when neither the gyro nor the accelerometer strays further than these from its own
         low-pass (:func:`rest_mask`, VQF's thresholds: 2 °/s, 0.5 m/s²) ...
@@ -136,6 +140,7 @@ class OrientationParams:
     mag_settle_s: float | None = 0.5
     mag_check_tau_s: float = 0.05
     mag_reference_tau_s: float | None = 20.0
+    mag_new_field_s: float | None = 20.0
     rest_gyro_rad_s: float = float(np.radians(2.0))
     rest_accel_m_s2: float = 0.5
     rest_min_s: float | None = 1.5
@@ -149,7 +154,8 @@ class OrientationParams:
                             "gyro_range_rad_s": "optional positive",
                             "gyro_gap_accel_rad_s2": "optional positive", "accel_tau_s": "optional positive",
                             "mag_settle_s": "optional positive", "mag_check_tau_s": "positive",
-                            "mag_reference_tau_s": "optional positive", "rest_gyro_rad_s": "positive",
+                            "mag_reference_tau_s": "optional positive", "mag_new_field_s": "optional positive",
+                            "rest_gyro_rad_s": "positive",
                             "rest_accel_m_s2": "positive", "rest_min_s": "optional positive"})
         if not isinstance(self.checks, SensorChecks):
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
@@ -371,9 +377,10 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
         down = -accel / np.linalg.norm(accel, axis=1, keepdims=True) if attitude is None else \
             quat_to_dcm(attitude)[:, 2, :]  # NED's down in the body frame: the third row of R(q)
         # offline, each reading alone against the start's field: the heading update also corrects the bias there
-        good_m = undisturbed_field(log.t, log.mag, down, field_n, checks, settle_s=params.mag_settle_s or 0.0,
+        good_m = undisturbed_field(log.t, log.mag, down, None, checks, settle_s=params.mag_settle_s or 0.0,
                                    tau_s=0.0 if offline else params.mag_check_tau_s,
-                                   learn_tau_s=None if offline else params.mag_reference_tau_s)
+                                   learn_tau_s=None if offline else params.mag_reference_tau_s,
+                                   gyro=log.gyro, new_field_s=params.mag_new_field_s)
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
     model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,

@@ -82,14 +82,24 @@ def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
 
 @called_from_python
 @njit(cache=True)
-def undisturbed_field_pass(t, mag, down, ref_norm, ref_dip, norm_tol, dip_tol, settle_s, tau, learn_tau):
+def undisturbed_field_pass(t, mag, down, gyro, ref_norm, ref_dip, norm_tol, dip_tol, settle_s, tau, learn_tau,
+                           new_s, new_rate):
     """:func:`~quadlib.attitude.checks.undisturbed_field`: the norm and dip low-passed (``tau``),
-    checked against a reference that follows them (``learn_tau``) while the field is trusted."""
+    checked against a reference that follows them (``learn_tau``) while the field is trusted, and
+    replaced by a candidate that has held steady for ``new_s`` seconds of turning faster than
+    ``new_rate`` (the gyro low-passed over 0.5 s) while the field was refused."""
     n = t.shape[0]
     ok = np.zeros(n, np.bool_)
     norm_lp, dip_lp, last = 0.0, 0.0, -1
     calm, calm_since = True, -np.inf  # trusted from the start until a reading fails
+    rate_lp, rate_last = np.zeros(3), -1
+    cand_norm, cand_dip, cand_s = 0.0, 0.0, 0.0
     for k in range(n):
+        g = gyro[k]
+        if not np.isnan(g).any():
+            w = 1.0 if rate_last < 0 else (t[k] - t[rate_last]) / (0.5 + t[k] - t[rate_last])
+            rate_lp += w * (g - rate_lp)
+            rate_last = k
         m, d = mag[k], down[k]
         norm = math.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
         if not norm > 0.0:  # NaN or zero: no reading
@@ -98,7 +108,9 @@ def undisturbed_field_pass(t, mag, down, ref_norm, ref_dip, norm_tol, dip_tol, s
         dip = math.asin(min(1.0, max(-1.0, (m[0] * d[0] + m[1] * d[1] + m[2] * d[2]) / norm))) if dip_known else 0.0
         step = t[k] - t[last] if last >= 0 else 0.0
         if last < 0:
-            norm_lp, dip_lp = norm, dip
+            norm_lp, dip_lp, cand_norm, cand_dip = norm, dip, norm, dip
+            if np.isnan(ref_norm):  # no reference given: the first reading's
+                ref_norm, ref_dip = norm, dip
         else:
             w = 1.0 if tau == 0.0 else step / (tau + step)  # tau 0: each reading alone
             norm_lp += w * (norm - norm_lp)
@@ -110,6 +122,19 @@ def undisturbed_field_pass(t, mag, down, ref_norm, ref_dip, norm_tol, dip_tol, s
                 calm, calm_since = True, t[k]
         else:
             calm = False
+        # a refused field that holds steady while the sensor turns is the Earth's, not a magnet's on the board
+        if calm or abs(norm_lp / cand_norm - 1.0) > norm_tol or (dip_known and abs(dip_lp - cand_dip) > dip_tol):
+            cand_norm, cand_dip, cand_s = norm_lp, dip_lp, 0.0  # a candidate starts afresh
+        else:
+            if math.sqrt(rate_lp[0] ** 2 + rate_lp[1] ** 2 + rate_lp[2] ** 2) >= new_rate:
+                cand_s += step
+            w = step / (learn_tau + step)
+            cand_norm += w * (norm_lp - cand_norm)
+            if dip_known:
+                cand_dip += w * (dip_lp - cand_dip)
+            if cand_s >= new_s:
+                ref_norm, ref_dip = cand_norm, cand_dip
+                calm, calm_since = True, -np.inf
         ok[k] = calm and t[k] - calm_since >= settle_s
         if ok[k]:
             w = step / (learn_tau + step)

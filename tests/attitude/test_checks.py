@@ -122,10 +122,9 @@ def test_noisy_readings_are_judged_on_their_average_and_a_magnet_on_its_own():
     quiet = ~magnet & ((t < 9.5) | (t > 12.0))
     assert one_by_one[quiet].mean() < 0.2 and ok[quiet].all()
     assert ok[magnet].sum() == 1 and ok[magnet][0] and not ok[(t >= 11.0) & (t < 11.45)].any() and ok[(t > 11.6)].all()
-    lowpass = undisturbed_field_pass.py_func(t, mag, down, 50.0, np.radians(60.0), 0.2, np.radians(10.0), 0.5, 0.05,
-                                             20.0)
-    np.testing.assert_array_equal(lowpass, undisturbed_field_pass(t, mag, down, 50.0, np.radians(60.0), 0.2,
-                                                                  np.radians(10.0), 0.5, 0.05, 20.0))
+    args = (t, mag, down, np.full((t.size, 3), 1.0), 50.0, np.radians(60.0), 0.2, np.radians(10.0), 0.5, 0.05, 20.0,
+            20.0, np.radians(20.0))
+    np.testing.assert_array_equal(undisturbed_field_pass.py_func(*args), undisturbed_field_pass(*args))
 
 
 def test_the_reference_follows_a_field_that_changes_slowly():
@@ -140,3 +139,41 @@ def test_the_reference_follows_a_field_that_changes_slowly():
     assert fixed[t < 60.0].all() and not fixed[t > 70.0].any()
     with pytest.raises(ValueError, match="down: expected an \\(N, 3\\) array"):
         undisturbed_field(t, mag, down[:, :2], field, SensorChecks())
+
+
+def _turning_field_readings(seconds, rate_deg_s, board_field=(0.0, 0.0, 0.0)):
+    """A level sensor yawing at ``rate_deg_s`` in a 50-unit field at 60° dip, 100 Hz, with a
+    magnet's ``board_field`` fixed to the board: times, readings, down, gyro."""
+    t = np.arange(int(seconds * 100)) * 0.01
+    yaw = np.radians(rate_deg_s) * t
+    earth = 50.0 * np.array([np.cos(np.radians(60.0)), 0.0, np.sin(np.radians(60.0))])
+    mag = np.column_stack([earth[0] * np.cos(yaw), -earth[0] * np.sin(yaw), np.full(t.size, earth[2])])
+    gyro = np.tile([0.0, 0.0, np.radians(rate_deg_s)], (t.size, 1))
+    return t, mag + np.asarray(board_field), np.tile([0.0, 0.0, 1.0], (t.size, 1)), gyro
+
+
+def test_a_wrong_reference_gives_way_to_a_field_that_holds_while_the_sensor_turns():
+    """The reference says 30 % stronger than the field is: every reading is refused, until the
+    field has held its norm and dip for 20 s of turning at 60 °/s; from then on, all are trusted.
+    A magnet fixed to the board turns with it, its field's dip swinging by 40°, so it is never
+    taken for the Earth's (the readings it leaves near the reference's norm and dip pass, as
+    without the replacement); nor is any field while the sensor turns slower than 20 °/s."""
+    wrong = 65.0 * np.array([np.cos(np.radians(60.0)), 0.0, np.sin(np.radians(60.0))])
+    t, mag, down, gyro = _turning_field_readings(40.0, 60.0)
+    ok = undisturbed_field(t, mag, down, wrong, SensorChecks(), gyro=gyro, new_field_s=20.0)
+    assert not ok[t < 19.9].any() and ok[t > 20.1].all()
+    assert not undisturbed_field(t, mag, down, wrong, SensorChecks()).any()  # without the gyro: never replaced
+    assert not undisturbed_field(t, mag, down, wrong, SensorChecks(), gyro=0.0 * gyro, new_field_s=20.0).any()
+    assert not undisturbed_field(t, mag, down, wrong, SensorChecks(), gyro=gyro * 0.3, new_field_s=20.0).any()
+    t, magnet, down, gyro = _turning_field_readings(60.0, 60.0, board_field=(20.0, 0.0, 0.0))
+    right = wrong / 65.0 * 50.0
+    replaced = undisturbed_field(t, magnet, down, right, SensorChecks(), gyro=gyro, new_field_s=20.0)
+    np.testing.assert_array_equal(replaced, undisturbed_field(t, magnet, down, right, SensorChecks()))
+
+
+def test_without_a_reference_the_first_reading_is_the_reference():
+    t, mag, down, field = _level_field_readings(2000, np.random.default_rng(5), 1.0)
+    mag[1000:] *= 1.5  # a magnet arrives and stays
+    given = undisturbed_field(t, mag, down, mag[0], SensorChecks(), settle_s=0.5)
+    np.testing.assert_array_equal(undisturbed_field(t, mag, down, None, SensorChecks(), settle_s=0.5), given)
+    assert given[:1000].all() and not given[1010:].any()

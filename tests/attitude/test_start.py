@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from quadlib.analysis import attitude_error, broad_errors
-from quadlib.attitude import orientation_run
+from quadlib.attitude import OrientationParams, orientation_run
 from quadlib.data import load_broad_trial
 from quadlib.geometry import quat_multiply
 
@@ -57,3 +57,31 @@ def test_a_late_first_magnetometer_reading_starts_the_heading_there():
     q = orientation_run(replace(LOG, mag=mag)).x[:, :4]
     later = LOG.t >= 30.0
     assert np.degrees(attitude_error(q[later], BASE[later])).max() < 0.5
+
+
+SLIDING = load_broad_trial("10_undisturbed_slow_translation_A")  # the board carried about, mostly moving
+
+
+def _heading_after(run, later):
+    return broad_errors(run.x[later, :4], SLIDING.q_nb[later], SLIDING.movement[later])["heading_deg"]
+
+
+def test_a_first_magnetometer_reading_during_motion_is_checked_against_the_same_down():
+    """The field's first reading at 66.46 s, mid-translation: its dip is measured against the same
+    low-passed down as every later reading's (not the raw accelerometer's, 20° off there), so the
+    readings after it are used and the heading holds (against every one refused and 40° before)."""
+    log = SLIDING.log
+    run = orientation_run(replace(log, mag=np.where((log.t < 66.46)[:, None], np.nan, log.mag)))
+    assert run.sensors["heading"].used[log.t > 66.46].mean() > 0.95
+    assert _heading_after(run, log.t > 96.46) < 3.0
+
+
+def test_a_field_disturbed_at_the_start_gives_way_to_the_earths_once_the_sensor_turns():
+    """A magnet beside the sensor for its first 3 s makes the first reading's field 50 % too
+    strong: without the replacement, every reading after it is refused (1.6 % used) and the heading
+    drifts to 16.5° RMS; with it, the field that holds for 20 s of turning is taken (4.6°)."""
+    log = SLIDING.log
+    log = replace(log, mag=np.where((log.t < 3.0)[:, None], 1.5, 1.0) * log.mag)
+    kept, replaced = (orientation_run(log, OrientationParams(mag_new_field_s=s)) for s in (None, 20.0))
+    assert kept.sensors["heading"].used.mean() < 0.05 and _heading_after(kept, log.t >= 0.0) > 10.0
+    assert replaced.sensors["heading"].used.mean() > 0.3 and _heading_after(replaced, log.t >= 0.0) < 6.0
