@@ -29,6 +29,7 @@ from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream, gyro_with_gaps, rates_to_interval_start
 from quadlib.kernels.lowpass import calm_samples, inertial_lowpass_pass
+from quadlib.kernels.quaternion import exp_rotvec, multiply
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
@@ -179,11 +180,14 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
 
 
 def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray | None]:
-    """``(q_nb, field_n)``: where the filter starts, and the field in NED it checks readings against.
+    """``(q_nb, field_n)``: where the filter starts, and the first reading's field in NED.
 
     From the first sample with an accelerometer and a magnetometer reading that give an attitude
     (:func:`~quadlib.geometry.attitude_from_accel_mag`), turned about the down axis by the
-    declination so that yaw is from true north. Without a magnetometer reading that does
+    declination so that yaw is from true north. When the field's first such reading comes after
+    the first accelerometer reading, the start takes its tilt from that first accelerometer reading
+    and its heading from the field read later, turned back through the gyro
+    (:func:`_carried_back`): the sensor may have turned in between. Without a magnetometer reading that does
     (none at all, all NaN, or every one along gravity), from the first accelerometer reading
     alone, with body x (or y, when x points along gravity) starting north: any mounting, upside
     down included; ``field_n`` is then None.
@@ -192,19 +196,34 @@ def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.nda
     if not accel_ok.any():
         raise ValueError("log.accel: expected at least one finite reading of the specific force, got none")
     turn = np.array([np.cos(declination_rad / 2), 0.0, 0.0, np.sin(declination_rad / 2)])
+    k0 = int(np.argmax(accel_ok))
     if log.mag is not None:
         rows = np.flatnonzero(accel_ok & np.isfinite(log.mag).all(axis=1))
         for chunk in range(0, rows.size, 1000):
             k = rows[chunk:chunk + 1000]
             start = attitude_from_accel_mag(log.accel[k], log.mag[k])
             if start.valid.any():
-                first = int(np.argmax(start.valid))
-                q_magnetic = start.q_nb[first]
-                return quat_multiply(turn, q_magnetic), quat_to_dcm(q_magnetic) @ log.mag[k[first]]
-    f = log.accel[int(np.argmax(accel_ok))]
+                k1 = int(k[np.argmax(start.valid)])
+                q_magnetic, m_b = start.q_nb[int(np.argmax(start.valid))], log.mag[k1]
+                if k1 > k0:  # a later first reading: the tilt of the first sample, the heading carried back to it
+                    m_b = _carried_back(log, k0, k1)
+                    back = attitude_from_accel_mag(log.accel[k0][None], m_b[None])
+                    q_magnetic, m_b = (back.q_nb[0], m_b) if back.valid[0] else (q_magnetic, log.mag[k1])
+                return quat_multiply(turn, q_magnetic), quat_to_dcm(q_magnetic) @ m_b
+    f = log.accel[k0]
     # tilt only: a "field" along body x (or y) fixes the unobservable yaw
     axis = np.eye(3)[0 if abs(f[0]) < 0.9 * np.linalg.norm(f) else 1]
     return attitude_from_accel_mag(f[None], axis[None]).q_nb[0], None
+
+
+def _carried_back(log: ImuLog, k0: int, k1: int) -> np.ndarray:
+    """The field read at row ``k1`` as the body at row ``k0`` saw it: turned back through the gyro
+    (a missing row turning as the one before it), so that a first reading taken while the sensor
+    turns gives the heading of the first sample, not its own."""
+    gyro, q = _held_rows(log.gyro), np.array([1.0, 0.0, 0.0, 0.0])  # the body at k relative to the body at k0
+    for k in range(k0, k1):
+        q = multiply(q, exp_rotvec(gyro[k] * (log.t[k + 1] - log.t[k])))
+    return quat_to_dcm(q) @ log.mag[k1]
 
 
 def _held_rows(values: np.ndarray) -> np.ndarray:

@@ -85,3 +85,15 @@ def test_a_field_disturbed_at_the_start_gives_way_to_the_earths_once_the_sensor_
     kept, replaced = (orientation_run(log, OrientationParams(mag_new_field_s=s)) for s in (None, 20.0))
     assert kept.sensors["heading"].used.mean() < 0.05 and _heading_after(kept, log.t >= 0.0) > 10.0
     assert replaced.sensors["heading"].used.mean() > 0.3 and _heading_after(replaced, log.t >= 0.0) < 6.0
+
+
+def test_a_first_magnetometer_reading_while_the_sensor_turns_gives_the_heading_of_the_first_sample():
+    """Trial 16's board moves from 35 s on; with the field's first reading at 45.8 s, the start's
+    heading is that reading turned back through the gyro to the first sample, not the reading's
+    own (126° off at the start, and every heading after it refused)."""
+    shaken = load_broad_trial("16_undisturbed_fast_translation_B")
+    log = shaken.log
+    run = orientation_run(replace(log, mag=np.where((log.t < 45.8)[:, None], np.nan, log.mag)))
+    later = (log.t > 55.8) & shaken.movement
+    assert run.sensors["heading"].used[log.t > 45.8].mean() > 0.95
+    assert broad_errors(run.x[later, :4], shaken.q_nb[later])["heading_deg"] < 1.5
