@@ -298,6 +298,10 @@ def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationPar
         not caught (the estimate is then 180° off).
     mag : (N, 3) array_like, optional
         Magnetometer (any unit: only its direction is used); without it the heading is the gyro's.
+        Any schedule: NaN rows are readings not taken. A first reading after the first sample is
+        turned back through the gyro to give the start's heading, and it is the reference the
+        checks judge later readings against (replaced by a field that holds steady while the
+        sensor turns, ``OrientationParams.mag_new_field_s``).
     params : OrientationParams, optional
         The tuned defaults when None.
     offline : bool
