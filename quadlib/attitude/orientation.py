@@ -179,8 +179,8 @@ def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, t
     return calm & (log.t - since >= min_s)
 
 
-def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, np.ndarray | None]:
-    """``(q_nb, field_n)``: where the filter starts, and the first reading's field in NED.
+def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, bool]:
+    """``(q_nb, heading)``: where the filter starts, and whether a magnetometer reading gave its heading.
 
     From the first sample with an accelerometer and a magnetometer reading that give an attitude
     (:func:`~quadlib.geometry.attitude_from_accel_mag`), turned about the down axis by the
@@ -190,7 +190,7 @@ def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.nda
     (:func:`_carried_back`): the sensor may have turned in between. Without a magnetometer reading that does
     (none at all, all NaN, or every one along gravity), from the first accelerometer reading
     alone, with body x (or y, when x points along gravity) starting north: any mounting, upside
-    down included; ``field_n`` is then None.
+    down included; ``heading`` is then False.
     """
     accel_ok = np.isfinite(log.accel).all(axis=1) & (np.linalg.norm(np.nan_to_num(log.accel), axis=1) > 2.0)
     if not accel_ok.any():
@@ -204,16 +204,15 @@ def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.nda
             start = attitude_from_accel_mag(log.accel[k], log.mag[k])
             if start.valid.any():
                 k1 = int(k[np.argmax(start.valid)])
-                q_magnetic, m_b = start.q_nb[int(np.argmax(start.valid))], log.mag[k1]
+                q_magnetic = start.q_nb[int(np.argmax(start.valid))]
                 if k1 > k0:  # a later first reading: the tilt of the first sample, the heading carried back to it
-                    m_b = _carried_back(log, k0, k1)
-                    back = attitude_from_accel_mag(log.accel[k0][None], m_b[None])
-                    q_magnetic, m_b = (back.q_nb[0], m_b) if back.valid[0] else (q_magnetic, log.mag[k1])
-                return quat_multiply(turn, q_magnetic), quat_to_dcm(q_magnetic) @ m_b
+                    back = attitude_from_accel_mag(log.accel[k0][None], _carried_back(log, k0, k1)[None])
+                    q_magnetic = back.q_nb[0] if back.valid[0] else q_magnetic
+                return quat_multiply(turn, q_magnetic), True
     f = log.accel[k0]
     # tilt only: a "field" along body x (or y) fixes the unobservable yaw
     axis = np.eye(3)[0 if abs(f[0]) < 0.9 * np.linalg.norm(f) else 1]
-    return attitude_from_accel_mag(f[None], axis[None]).q_nb[0], None
+    return attitude_from_accel_mag(f[None], axis[None]).q_nb[0], False
 
 
 def _carried_back(log: ImuLog, k0: int, k1: int) -> np.ndarray:
@@ -394,8 +393,7 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
     checks = params.checks
     good_a = plausible_accel(gravity, checks)
     accel = np.where(good_a[:, None], gravity, np.nan)
-    q0, field_n = start
-    has_mag = field_n is not None
+    q0, has_mag = start
     if has_mag:
         down = -accel / np.linalg.norm(accel, axis=1, keepdims=True) if attitude is None else \
             quat_to_dcm(attitude)[:, 2, :]  # NED's down in the body frame: the third row of R(q)
