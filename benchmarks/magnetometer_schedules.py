@@ -1,6 +1,6 @@
 """The orientation filter when the magnetometer does not start with the log.
 
-Usage: ``python benchmarks/magnetometer_schedules.py`` (about 30 s on 2 cores). On each of BROAD's
+Usage: ``python benchmarks/magnetometer_schedules.py`` (about 20 s on 2 cores). On each of BROAD's
 ten trials, with the defaults, the MEKF's and VQF's total error [deg] over the scored motion, the
 field given to both as:
 
