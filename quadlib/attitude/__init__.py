@@ -24,7 +24,8 @@ from .bias_model import (
 from .checks import SensorChecks, plausible_accel, plausible_mag, undisturbed_field
 from .complementary import blend_weight, euler_rate_complementary, linear_complementary, nonlinear_complementary
 from .kesten import FILTERS, AttitudeNoise, AttitudeRun, KestenFilter, qf, qkf, run_attitude_filter, tovkf, tqf, tqkf
-from .orientation import OrientationParams, estimate_orientation, orientation_run, rest_mask
+from .lowpass import inertial_lowpass, rest_mask
+from .orientation import OrientationParams, estimate_orientation, orientation_run
 from .tumble import random_rotation, with_spin
 
 __all__ = [
@@ -50,6 +51,7 @@ __all__ = [
     "gyro_step",
     "gyro_step_jacobian",
     "heading_sensor",
+    "inertial_lowpass",
     "linear_complementary",
     "nonlinear_complementary",
     "orientation_run",

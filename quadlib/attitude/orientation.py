@@ -24,20 +24,20 @@ import numpy as np
 
 from quadlib.attitude.bias_model import LAYOUT, attitude_bias_model
 from quadlib.attitude.checks import SensorChecks, plausible_accel, undisturbed_field
+from quadlib.attitude.lowpass import held_rows, inertial_lowpass, rest_mask
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.geometry.vector_attitude import attitude_from_accel_mag
 from quadlib.imu import ImuLog, as_imu_stream, gyro_with_gaps, rates_to_interval_start
-from quadlib.kernels.lowpass import calm_samples, inertial_lowpass_pass
 from quadlib.kernels.quaternion import exp_rotvec, multiply
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
 from quadlib.sensors import gravity_sensor, heading_sensor, zero_rate_sensor
-from quadlib.validation import as_bool, as_finite_array, as_finite_number, as_positive, as_times, check_fields
+from quadlib.validation import as_bool, as_finite_number, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
-           "rest_mask", "zero_rate_sensor"]
+           "zero_rate_sensor"]
 
 
 @dataclass(frozen=True)
@@ -162,23 +162,6 @@ class OrientationParams:
             raise TypeError(f"OrientationParams.checks: expected a SensorChecks, got {self.checks!r}")
 
 
-def rest_mask(log: ImuLog, gyro_rad_s: float, accel_m_s2: float, min_s: float, tau_s: float = 0.5) -> np.ndarray:
-    """``(N,)`` bool: the samples where the sensor is at rest (VQF's test, Laidig & Seel 2023, §4).
-
-    Each stream is low-passed (first order, ``tau_s``); a sample is calm when the gyro is within
-    ``gyro_rad_s`` of its low-pass and the accelerometer within ``accel_m_s2`` of its own, and the
-    sensor is at rest once it has been calm for ``min_s`` seconds. Missing samples are not calm.
-    """
-    if not isinstance(log, ImuLog):
-        raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
-    gyro_th, accel_th = as_positive("gyro_rad_s", gyro_rad_s), as_positive("accel_m_s2", accel_m_s2)
-    min_s, tau = as_positive("min_s", min_s), as_positive("tau_s", tau_s)
-    calm = calm_samples(log.t, log.gyro, log.accel, gyro_th, accel_th, tau)
-    starts = calm & ~np.r_[False, calm[:-1]]  # the first sample of each calm run
-    since = log.t[np.maximum.accumulate(np.where(starts, np.arange(len(log)), 0))]
-    return calm & (log.t - since >= min_s)
-
-
 def _initial_attitude(log: ImuLog, declination_rad: float = 0.0) -> tuple[np.ndarray, bool]:
     """``(q_nb, heading)``: where the filter starts, and whether a magnetometer reading gave its heading.
 
@@ -219,60 +202,10 @@ def _carried_back(log: ImuLog, k0: int, k1: int) -> np.ndarray:
     """The field read at row ``k1`` as the body at row ``k0`` saw it: turned back through the gyro
     (a missing row turning as the one before it), so that a first reading taken while the sensor
     turns gives the heading of the first sample, not its own."""
-    gyro, q = _held_rows(log.gyro), np.array([1.0, 0.0, 0.0, 0.0])  # the body at k relative to the body at k0
+    gyro, q = held_rows(log.gyro), np.array([1.0, 0.0, 0.0, 0.0])  # the body at k relative to the body at k0
     for k in range(k0, k1):
         q = multiply(q, exp_rotvec(gyro[k] * (log.t[k + 1] - log.t[k])))
     return quat_to_dcm(q) @ log.mag[k1]
-
-
-def _held_rows(values: np.ndarray) -> np.ndarray:
-    """``values`` with each row that holds a NaN replaced by the last complete row before it
-    (zeros before the first): a missing gyro sample turns the frame as the one before it did."""
-    complete = ~np.isnan(values).any(axis=1)
-    if complete.all():
-        return values
-    last = np.maximum.accumulate(np.where(complete, np.arange(len(values)), -1))
-    return np.where((last >= 0)[:, None], values[np.maximum(last, 0)], 0.0)
-
-
-def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool = False,
-                     gap_accel_rad_s2: float | None = None) -> np.ndarray:
-    """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
-    body frame.
-
-    Each sample is turned into a frame integrated from the gyro alone, ``a_I = R(q_I) a_b``,
-    averaged there by a first-order low-pass of time constant ``tau_s``, and turned back,
-    ``R(q_I)ᵀ ā_I``. Gravity is constant in that frame and passes; a translation's accelerations
-    average out, since its velocity stays bounded (VQF's idea, Laidig & Seel 2023, §3). The
-    gyro's drift blurs the result: a bias ``b`` tilts the average by about ``|b| τ``, so
-    ``gyro_bias`` ((3,) or one row per sample [rad/s]) is subtracted first. A missing gyro sample
-    (a NaN row) turns the frame at the rate before it; with ``gap_accel_rad_s2`` (``α``), once a gap
-    of ``τ`` seconds may have turned it by more than a degree, ``α τ²/2``, the frame is lost and the
-    average starts afresh at the next sample. Missing accelerometer samples hold the
-    average. Every other sample counts, the violent ones too: the accelerations cancel only as a
-    whole, and an average that left out the largest of them would keep the rest (chapter 16 shows
-    it on BROAD's fast-translation trial 16, with the samples 50 m/s² off g₀ left out).
-
-    ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
-    in time, a symmetric window around each sample that does not lag.
-    """
-    tau = as_positive("tau_s", tau_s)
-    gyro = log.gyro if gyro_bias is None else log.gyro - np.broadcast_to(as_finite_array("gyro_bias", gyro_bias),
-                                                                          log.gyro.shape)
-    usable = ~np.isnan(log.accel).any(axis=1)
-    lost = np.zeros(len(log), bool)
-    if gap_accel_rad_s2 is not None:  # the step into sample k turned with row k − 1
-        alpha = as_positive("gap_accel_rad_s2", gap_accel_rad_s2)
-        held_for = gyro_with_gaps(log.t, gyro)[:, 3]
-        lost[1:] = alpha * (held_for[:-1] + np.diff(log.t)) ** 2 / 2 > np.radians(1.0)
-        lost[1:] &= held_for[:-1] > 0
-    gyro = np.ascontiguousarray(_held_rows(gyro), dtype=float)
-    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, False)
-    if not two_sided:
-        return forward
-    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, True)
-    both = 0.5 * (forward + backward)
-    return np.where(np.isnan(forward), backward, np.where(np.isnan(backward), forward, both))
 
 
 def estimate_orientation(t, gyr=None, acc=None, mag=None, params: OrientationParams | None = None, *,

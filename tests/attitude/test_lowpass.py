@@ -2,7 +2,8 @@
 
 import numpy as np
 
-from quadlib.attitude.orientation import OrientationParams, inertial_lowpass, rest_mask
+from quadlib.attitude.lowpass import inertial_lowpass, rest_mask
+from quadlib.attitude.orientation import OrientationParams
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.imu import ImuNoise

@@ -5,7 +5,8 @@ import pytest
 
 from quadlib.analysis.metrics import attitude_error, broad_errors
 from quadlib.attitude.checks import SensorChecks
-from quadlib.attitude.orientation import OrientationParams, estimate_orientation, inertial_lowpass, orientation_run
+from quadlib.attitude.lowpass import inertial_lowpass
+from quadlib.attitude.orientation import OrientationParams, estimate_orientation, orientation_run
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
 from quadlib.data import load_broad_trial
@@ -183,7 +184,7 @@ def _still_then_turning(still_s=5.0, turning_s=10.0, rate_hz=100.0):
 
 
 def test_rest_is_found_after_its_minimum_duration_and_never_while_turning():
-    from quadlib.attitude.orientation import rest_mask
+    from quadlib.attitude.lowpass import rest_mask
 
     motion, turning = _still_then_turning()
     noise = ImuNoise(gyro_sigma_rad_s=0.005, gyro_bias_rad_s=(0.01, 0.0, 0.0), accel_sigma_m_s2=0.05, mag_sigma=0.3)
