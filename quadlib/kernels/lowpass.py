@@ -1,7 +1,7 @@
 """The low-passes of rest detection, of the accelerometer and of the magnetometer's checks, compiled.
 
-Their readable descriptions are :func:`~quadlib.attitude.orientation.rest_mask`,
-:func:`~quadlib.attitude.orientation.inertial_lowpass` and
+Their readable descriptions are :func:`~quadlib.attitude.lowpass.rest_mask`,
+:func:`~quadlib.attitude.lowpass.inertial_lowpass` and
 :func:`~quadlib.attitude.checks.undisturbed_field`, which call them; ``py_func`` is each loop
 uncompiled (tested equal).
 """
@@ -23,7 +23,7 @@ __all__: list[str] = []  # internal: orientation.py is the interface
 @called_from_python
 @njit(cache=True)
 def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
-    """:func:`~quadlib.attitude.orientation.rest_mask`'s first step: each sample within the
+    """:func:`~quadlib.attitude.lowpass.rest_mask`'s first step: each sample within the
     thresholds of its stream's first-order low-pass."""
     n = t.shape[0]
     calm = np.zeros(n, np.bool_)
@@ -49,7 +49,7 @@ def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
 @called_from_python
 @njit(cache=True)
 def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
-    """One direction of :func:`~quadlib.attitude.orientation.inertial_lowpass`: the frame is
+    """One direction of :func:`~quadlib.attitude.lowpass.inertial_lowpass`: the frame is
     integrated from the gyro over each step, forwards or backwards in time, and the average starts
     afresh after a step whose turn is lost (``lost[k]``: the step from sample ``k − 1`` to ``k``)."""
     n = t.shape[0]
