@@ -151,7 +151,8 @@ def settled(ok, present, t, settle_s: float) -> np.ndarray:
 
 
 def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: float = 0.0, tau_s: float = 0.05,
-                      learn_tau_s: float | None = 20.0, gyro=None, new_field_s: float | None = None) -> np.ndarray:
+                      learn_tau_s: float | None = 20.0, gyro=None, new_field_s: float | None = None,
+                      first_field_s: float | None = None) -> np.ndarray:
     """``(N,)`` bool: the magnetometer reads an undisturbed field, judged on a short average.
 
     :func:`plausible_mag` judges each reading alone, and a noisy magnetometer's single readings
@@ -176,6 +177,12 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     [rad/s], (N, 3), low-passed over 0.5 s) becomes the reference. A magnet fixed to the board
     turns with it, so its field's norm and dip change as the board turns; the Earth's do not.
     None (or no ``gyro``): the reference is never replaced.
+
+    Without ``field_n``, the first reading's field is the reference, so a disturbed first reading
+    (the sensor switched on beside a magnet) is one the later, true field must then win against.
+    With ``first_field_s``, as VQF's ``magNewFirstTime``, no reading is trusted until a field has
+    held within the tolerances of its own average for that many seconds, at rest or turning; that
+    field is the reference. A disturbance at the start shorter than ``first_field_s`` is never taken.
     """
     checks = as_instance("checks", checks, SensorChecks)
     t = as_times("t", t)
@@ -193,6 +200,7 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     tau = as_positive("tau_s", tau_s, allow_zero=True)
     learn = np.inf if learn_tau_s is None else as_positive("learn_tau_s", learn_tau_s)
     new_s = np.inf if new_field_s is None else as_positive("new_field_s", new_field_s)
+    first_s = 0.0 if first_field_s is None else as_positive("first_field_s", first_field_s)
     if gyro is None:
         w, new_s = np.zeros((t.size, 3)), np.inf
     else:
@@ -202,7 +210,7 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     norm_tol = np.inf if checks.mag_norm_tolerance is None else checks.mag_norm_tolerance
     dip_tol = np.inf if checks.mag_dip_tolerance_rad is None else checks.mag_dip_tolerance_rad
     ok = undisturbed_field_pass(t, np.nan_to_num(m, nan=0.0), d, w, strength, dip0,
-                                norm_tol, dip_tol, settle_s, tau, learn, new_s, NEW_FIELD_MIN_RATE_RAD_S)
+                                norm_tol, dip_tol, settle_s, tau, learn, new_s, NEW_FIELD_MIN_RATE_RAD_S, first_s)
     if checks.mag_stuck_samples is not None:
         ok &= ~stuck_rows(m, checks.mag_stuck_samples)
     return ok

@@ -123,7 +123,7 @@ def test_noisy_readings_are_judged_on_their_average_and_a_magnet_on_its_own():
     assert one_by_one[quiet].mean() < 0.2 and ok[quiet].all()
     assert ok[magnet].sum() == 1 and ok[magnet][0] and not ok[(t >= 11.0) & (t < 11.45)].any() and ok[(t > 11.6)].all()
     args = (t, mag, down, np.full((t.size, 3), 1.0), 50.0, np.radians(60.0), 0.2, np.radians(10.0), 0.5, 0.05, 20.0,
-            20.0, np.radians(20.0))
+            20.0, np.radians(20.0), 0.0)
     np.testing.assert_array_equal(undisturbed_field_pass.py_func(*args), undisturbed_field_pass(*args))
 
 
@@ -169,6 +169,30 @@ def test_a_wrong_reference_gives_way_to_a_field_that_holds_while_the_sensor_turn
     right = wrong / 65.0 * 50.0
     replaced = undisturbed_field(t, magnet, down, right, SensorChecks(), gyro=gyro, new_field_s=20.0)
     np.testing.assert_array_equal(replaced, undisturbed_field(t, magnet, down, right, SensorChecks()))
+
+
+def test_a_first_field_time_never_takes_a_disturbance_at_the_start_for_the_reference():
+    """Switched on beside a magnet, at rest: the first 3 s of readings 1.5 times too strong. With the
+    first reading as the reference, the true field after them is refused for good (at rest no new
+    field is taken); waiting for a field that holds for 5 s, nothing is trusted until the true one
+    has: from 8 s on. A steady field from the start is trusted after 5 s; a given reference at once."""
+    t, mag, down, field = _level_field_readings(2000, np.random.default_rng(6), 1.0)
+    field = field / np.linalg.norm(field) * 50.0
+    magnet = mag.copy()
+    magnet[t < 3.0] *= 1.5
+    first = undisturbed_field(t, magnet, down, None, SensorChecks(), settle_s=0.5)
+    assert first[t < 2.9].all() and not first[t > 3.1].any()
+    waited = undisturbed_field(t, magnet, down, None, SensorChecks(), settle_s=0.5, first_field_s=5.0)
+    assert not waited[t < 7.9].any() and waited[t > 8.1].all()
+    steady = undisturbed_field(t, mag, down, None, SensorChecks(), settle_s=0.5, first_field_s=5.0)
+    assert not steady[t < 4.95].any() and steady[t > 5.05].all()
+    given = undisturbed_field(t, mag, down, field, SensorChecks(), settle_s=0.5)
+    assert given.all()
+    np.testing.assert_array_equal(undisturbed_field(t, mag, down, field, SensorChecks(), settle_s=0.5,
+                                                    first_field_s=5.0), given)
+    args = (t, magnet, down, np.zeros((t.size, 3)), np.nan, np.nan, 0.2, np.radians(10.0), 0.5, 0.05, 20.0,
+            np.inf, np.radians(20.0), 5.0)
+    np.testing.assert_array_equal(undisturbed_field_pass.py_func(*args), waited)
 
 
 def test_without_a_reference_the_first_reading_is_the_reference():
