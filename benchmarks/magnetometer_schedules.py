@@ -1,8 +1,9 @@
 """The orientation filter when the magnetometer does not start with the log.
 
-Usage: ``python benchmarks/magnetometer_schedules.py`` (about 20 s on 2 cores). On each of BROAD's
-ten trials, with the defaults, the MEKF's and VQF's total error [deg] over the scored motion, the
-field given to both as:
+Usage: ``python benchmarks/magnetometer_schedules.py [FIRST_FIELD_S]`` (about 20 s on 2 cores). On
+each of BROAD's ten trials, with the defaults (and the MEKF's ``OrientationParams.mag_first_field_s``
+set to ``FIRST_FIELD_S`` when given), the MEKF's and VQF's total error [deg] over the scored motion,
+the field given to both as:
 
 * ``as logged``;
 * ``from motion``: no reading before the first second of scored motion plus 10 s, so the first
@@ -17,6 +18,7 @@ Printed: per trial and schedule ``MEKF / VQF``, and per schedule the mean and th
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from multiprocessing import Pool
 
@@ -24,7 +26,7 @@ import numpy as np
 
 from quadlib.analysis.metrics import broad_errors
 from quadlib.analysis.orientation_table import _arrays, orientation_estimate
-from quadlib.attitude import estimate_orientation
+from quadlib.attitude import OrientationParams, estimate_orientation
 from quadlib.data import broad_trial_names, load_broad_trial
 
 SCHEDULES = ("as logged", "from motion", "magnet at start", "VQF's flags")
@@ -45,25 +47,28 @@ def field(schedule: str, log, movement) -> np.ndarray:
     return np.where(disturbed[:, None], np.nan, log.mag)
 
 
-def one_trial(name: str) -> tuple[str, list[tuple[float, float]]]:
+def one_trial(job: tuple[str, OrientationParams]) -> tuple[str, list[tuple[float, float]]]:
+    name, params = job
     trial = load_broad_trial(name)
     scores = []
     for schedule in SCHEDULES:
         log = replace(trial.log, mag=field(schedule, trial.log, trial.movement))
-        mekf = broad_errors(estimate_orientation(log).q, trial.q_nb, trial.movement)["total_deg"]
+        mekf = broad_errors(estimate_orientation(log, params=params).q, trial.q_nb, trial.movement)["total_deg"]
         as_vqf = replace(log, mag=np.nan_to_num(log.mag, nan=0.0))  # VQF skips a zero reading, and a NaN spoils it
         vqf = broad_errors(orientation_estimate("VQF", as_vqf), trial.q_nb, trial.movement)["total_deg"]
         scores.append((mekf, vqf))
     return name, scores
 
 
-def main() -> None:
+def main(first_field_s: float | None = None) -> None:
     import warnings
 
     warnings.simplefilter("ignore", UserWarning)  # a run that used few headings says so; the table shows it
+    params = OrientationParams(mag_first_field_s=first_field_s)
     with Pool(2) as pool:
-        done = pool.map(one_trial, broad_trial_names(), chunksize=1)
-    print("BROAD's ten trials, the magnetometer on four schedules; total error [deg], MEKF / VQF")
+        done = pool.map(one_trial, [(name, params) for name in broad_trial_names()], chunksize=1)
+    print("BROAD's ten trials, the magnetometer on four schedules; total error [deg], MEKF / VQF"
+          + ("" if first_field_s is None else f" (MEKF's first field after {first_field_s:g} s)"))
     print(f"{'trial':<6}" + "".join(f" | {s:>15}" for s in SCHEDULES))
     for name, scores in done:
         print(f"{name[:2]:<6}" + "".join(f" | {m:6.2f} / {v:6.2f}" for m, v in scores))
@@ -74,4 +79,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(*(float(a) for a in sys.argv[1:2]))
