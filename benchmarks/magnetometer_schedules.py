@@ -1,9 +1,9 @@
 """The orientation filter when the magnetometer does not start with the log.
 
-Usage: ``python benchmarks/magnetometer_schedules.py [FIRST_FIELD_S]`` (about 20 s on 2 cores). On
-each of BROAD's ten trials, with the defaults (and the MEKF's ``OrientationParams.mag_first_field_s``
-set to ``FIRST_FIELD_S`` when given), the MEKF's and VQF's total error [deg] over the scored motion,
-the field given to both as:
+Usage: ``python benchmarks/magnetometer_schedules.py [FIRST_FIELD_S | none]`` (about 20 s on 2 cores).
+On each of BROAD's ten trials, with the defaults (the MEKF's ``OrientationParams.mag_first_field_s``
+set to ``FIRST_FIELD_S`` when given, ``none``: off), the MEKF's and VQF's total error [deg] over the
+scored motion, the field given to both as:
 
 * ``as logged``;
 * ``from motion``: no reading before the first second of scored motion plus 10 s, so the first
@@ -60,15 +60,16 @@ def one_trial(job: tuple[str, OrientationParams]) -> tuple[str, list[tuple[float
     return name, scores
 
 
-def main(first_field_s: float | None = None) -> None:
+def main(first_field_s: str | None = None) -> None:
     import warnings
 
     warnings.simplefilter("ignore", UserWarning)  # a run that used few headings says so; the table shows it
-    params = OrientationParams(mag_first_field_s=first_field_s)
+    params = OrientationParams() if first_field_s is None else OrientationParams(
+        mag_first_field_s=None if first_field_s == "none" else float(first_field_s))
     with Pool(2) as pool:
         done = pool.map(one_trial, [(name, params) for name in broad_trial_names()], chunksize=1)
     print("BROAD's ten trials, the magnetometer on four schedules; total error [deg], MEKF / VQF"
-          + ("" if first_field_s is None else f" (MEKF's first field after {first_field_s:g} s)"))
+          + f" (MEKF's mag_first_field_s: {params.mag_first_field_s})")
     print(f"{'trial':<6}" + "".join(f" | {s:>15}" for s in SCHEDULES))
     for name, scores in done:
         print(f"{name[:2]:<6}" + "".join(f" | {m:6.2f} / {v:6.2f}" for m, v in scores))
@@ -79,4 +80,4 @@ def main(first_field_s: float | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main(*(float(a) for a in sys.argv[1:2]))
+    main(*sys.argv[1:2])

@@ -178,11 +178,13 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     turns with it, so its field's norm and dip change as the board turns; the Earth's do not.
     None (or no ``gyro``): the reference is never replaced.
 
-    Without ``field_n``, the first reading's field is the reference, so a disturbed first reading
-    (the sensor switched on beside a magnet) is one the later, true field must then win against.
-    With ``first_field_s``, as VQF's ``magNewFirstTime``, no reading is trusted until a field has
-    held within the tolerances of its own average for that many seconds, at rest or turning; that
-    field is the reference. A disturbance at the start shorter than ``first_field_s`` is never taken.
+    Without ``field_n``, the first reading's field is the reference, and a disturbed first reading
+    (the sensor switched on beside a magnet) would keep the true field out until it has held while
+    the sensor turns. So with ``first_field_s`` (VQF's ``magNewFirstTime``), that reference is on
+    trial until it has been trusted for ``first_field_s`` seconds in all: until then a refused
+    field that holds for ``first_field_s`` seconds replaces it, at rest too. A disturbance at the
+    start that lasts less than ``first_field_s`` is replaced once the true field has held that long.
+    A given ``field_n`` is never on trial.
     """
     checks = as_instance("checks", checks, SensorChecks)
     t = as_times("t", t)
@@ -201,6 +203,8 @@ def undisturbed_field(t, mag, down, field_n, checks: SensorChecks, *, settle_s: 
     learn = np.inf if learn_tau_s is None else as_positive("learn_tau_s", learn_tau_s)
     new_s = np.inf if new_field_s is None else as_positive("new_field_s", new_field_s)
     first_s = 0.0 if first_field_s is None else as_positive("first_field_s", first_field_s)
+    if field_n is not None:
+        first_s = 0.0
     if gyro is None:
         w, new_s = np.zeros((t.size, 3)), np.inf
     else:

@@ -119,15 +119,14 @@ class OrientationParams:
         20 °/s becomes the new reference (VQF's 20 s, ``magNewTime``): a reference taken from a
         disturbed or accelerated first reading is not kept for good. None: never replaced.
     mag_first_field_s : float or None
-        None: the first reading's field is the reference. A number [s]: no heading is used until a
-        field has held steady for this long, at rest or turning, and that field is the reference
-        (VQF's ``magNewFirstTime`` is 5 s), so a disturbance at the start that lasts less is never
-        taken (:func:`~quadlib.attitude.checks.undisturbed_field`). On BROAD's ten trials with the first
-        3 s of readings 1.5 times too strong, 5 s gives a mean total error of 1.78° against 2.57°
-        with None; as logged, 1.79° either way. But a first reading that comes while the sensor
-        moves then waits 5 s without a heading: with none before 10 s into the motion, worse on six
-        of the ten trials (the mean, 6.38° against 6.53°, is better only through the two with a
-        magnet on the board), so None stays the default (``benchmarks/magnetometer_schedules.py``).
+        The first reading's field, the reference the checks start from, stays on trial until it has
+        been trusted for this long [s] (VQF's ``magNewFirstTime``, 5 s): until then a refused field
+        that holds steady for this long, at rest or turning, replaces it, so a magnet beside the
+        start is not kept as the Earth's field (:func:`~quadlib.attitude.checks.undisturbed_field`).
+        On BROAD's ten trials with the first 3 s of readings 1.5 times too strong, the mean total
+        error is 1.79° against 2.57° with None; as logged, with the first reading late or with VQF's
+        disturbed readings left out, the estimates are unchanged
+        (``benchmarks/magnetometer_schedules.py``). None: the first reading's field is kept.
     rest_gyro_rad_s, rest_accel_m_s2 : float
         At rest when neither the gyro nor the accelerometer strays further than these from its own
         low-pass (:func:`rest_mask`, VQF's thresholds: 2 °/s, 0.5 m/s²) ...
@@ -152,7 +151,7 @@ class OrientationParams:
     mag_check_tau_s: float = 0.05
     mag_reference_tau_s: float | None = 20.0
     mag_new_field_s: float | None = 20.0
-    mag_first_field_s: float | None = None
+    mag_first_field_s: float | None = 5.0
     rest_gyro_rad_s: float = float(np.radians(2.0))
     rest_accel_m_s2: float = 0.5
     rest_min_s: float | None = 1.5

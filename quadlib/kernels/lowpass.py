@@ -87,15 +87,16 @@ def undisturbed_field_pass(t, mag, down, gyro, ref_norm, ref_dip, norm_tol, dip_
     """:func:`~quadlib.attitude.checks.undisturbed_field`: the norm and dip low-passed (``tau``),
     checked against a reference that follows them (``learn_tau``) while the field is trusted, and
     replaced by a candidate that has held steady for ``new_s`` seconds of turning faster than
-    ``new_rate`` (the gyro low-passed over 0.5 s) while the field was refused. Without a reference
-    (``ref_norm`` NaN) the first reading's is taken, or with ``first_s > 0`` the first candidate's
-    that has held steady for ``first_s`` seconds, turning or not; until then every reading is refused."""
+    ``new_rate`` (the gyro low-passed over 0.5 s) while the field was refused; until the reference has
+    been trusted for ``first_s`` seconds in all, a candidate replaces it after ``first_s`` seconds,
+    turning or not. Without a reference (``ref_norm`` NaN) the first reading's is taken."""
     n = t.shape[0]
     ok = np.zeros(n, np.bool_)
     norm_lp, dip_lp, last = 0.0, 0.0, -1
     calm, calm_since = True, -np.inf  # trusted from the start until a reading fails
     rate_lp, rate_last = np.zeros(3), -1
     cand_norm, cand_dip, cand_s = 0.0, 0.0, 0.0
+    trusted_s = 0.0  # how long the reference has been trusted: below first_s it is still on trial
     for k in range(n):
         g = gyro[k]
         if not np.isnan(g).any():
@@ -111,7 +112,7 @@ def undisturbed_field_pass(t, mag, down, gyro, ref_norm, ref_dip, norm_tol, dip_
         step = t[k] - t[last] if last >= 0 else 0.0
         if last < 0:
             norm_lp, dip_lp, cand_norm, cand_dip = norm, dip, norm, dip
-            if np.isnan(ref_norm) and first_s == 0.0:  # no reference given: the first reading's
+            if np.isnan(ref_norm):  # no reference given: the first reading's
                 ref_norm, ref_dip = norm, dip
         else:
             w = 1.0 if tau == 0.0 else step / (tau + step)  # tau 0: each reading alone
@@ -128,16 +129,18 @@ def undisturbed_field_pass(t, mag, down, gyro, ref_norm, ref_dip, norm_tol, dip_
         if calm or abs(norm_lp / cand_norm - 1.0) > norm_tol or (dip_known and abs(dip_lp - cand_dip) > dip_tol):
             cand_norm, cand_dip, cand_s = norm_lp, dip_lp, 0.0  # a candidate starts afresh
         else:
-            if np.isnan(ref_norm) or math.sqrt(rate_lp[0] ** 2 + rate_lp[1] ** 2 + rate_lp[2] ** 2) >= new_rate:
+            if trusted_s < first_s or math.sqrt(rate_lp[0] ** 2 + rate_lp[1] ** 2 + rate_lp[2] ** 2) >= new_rate:
                 cand_s += step
             w = step / (learn_tau + step)
             cand_norm += w * (norm_lp - cand_norm)
             if dip_known:
                 cand_dip += w * (dip_lp - cand_dip)
-            if cand_s >= (first_s if np.isnan(ref_norm) else new_s):
+            if cand_s >= (first_s if trusted_s < first_s else new_s):
                 ref_norm, ref_dip = cand_norm, cand_dip
                 calm, calm_since = True, -np.inf
         ok[k] = calm and t[k] - calm_since >= settle_s
+        if calm:
+            trusted_s += step
         if ok[k]:
             w = step / (learn_tau + step)
             ref_norm += w * (norm_lp - ref_norm)
