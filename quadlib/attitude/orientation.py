@@ -69,18 +69,29 @@ class OrientationParams:
         magnetometer's, but only if the readings it refused agree with one another
         (``Sensor.reset_needs_agreement``): then the estimate is what is off. Readings that scatter
         more than their noise, as a magnet turning with the sensor makes them, stay refused. None:
-        a refused heading is never reset. On chapter 15's fixed-wing flight without airspeed, the
-        turns' acceleration tilts the estimate and the gyro bias it learns turns the heading away
-        until the gate refuses every heading (29° RMS at 50 Hz, 42° at 100 Hz without the reset,
-        18.0° and 20.3° with it); on the ten BROAD trials no reset happens.
+        a refused heading is never reset. On chapter 15's fixed-wing flight without airspeed at
+        100 Hz, one of ten noise draws loses its heading for good without it (35° total error;
+        the ten draws' mean 9.7° against 7.6° with it); at 25 and 50 Hz, and on the ten BROAD
+        trials, no reset happens.
     initial_bias_sigma_rad_s : float
         σ of the gyro bias at the start [rad/s] (the bias starts at zero).
     gate_probability : float or None
-        χ² gate on the heading and zero-rate updates, and on gravity when it reads the raw
-        accelerometer (``accel_tau_s`` None). The low-passed gravity is not gated: an average over
-        seconds cannot jump, so a gate can only refuse it after the estimate has drifted from it —
-        and then keeps refusing (on BROAD's fast-translation trial, σ 0.3 m/s² and τ 2 s, a gate at
-        0.999 refused 5645 samples and let the tilt drift to 5.7°).
+        χ² gate on the heading, zero-rate and gravity updates (the low-passed gravity only with
+        ``gravity_reset_s``).
+    gravity_reset_s : float or None
+        Gravity is gated, the low-passed gravity too, and once the gate has refused it for this long
+        [s] the tilt is reset to it (``Sensor.reset_after_s``). A sustained acceleration — a banked
+        turn, whose specific force stays along the body's z — survives the low-pass and disagrees
+        with the tilt the gyro carried: the gate refuses it, and the gyro alone carries the tilt
+        through it. Ungated, the turn pulls the estimate level, the gyro bias learns the difference
+        and turns the heading away. On chapter 15's fixed-wing flight without airspeed (ten noise
+        draws each at 25, 50 and 100 Hz; ``benchmarks/orientation_rates.py``) the mean total error
+        is 3.8°, 4.8° and 7.6° with 30 s, 15.8°, 17.6° and 21.9° with None, and VQF's 18.6°, 18.5° and
+        18.6°; on the ten BROAD trials it is 1.79° either way. 30 s is longer than that flight's
+        longest turn (18 s). The reset is what makes the
+        gate safe: an average over seconds cannot jump, so once an estimate has drifted from it a
+        gate alone would refuse it for good. None: the low-passed gravity is never gated (the raw
+        accelerometer's still is, with no reset).
     checks : SensorChecks
         When an accelerometer or magnetometer sample is implausible and skipped.
     gyro_range_rad_s : float or None
@@ -143,6 +154,7 @@ class OrientationParams:
     heading_reset_s: float | None = 1.0
     initial_bias_sigma_rad_s: float = 0.01
     gate_probability: float | None = 0.999
+    gravity_reset_s: float | None = 30.0
     checks: SensorChecks = field(default_factory=SensorChecks)
     gyro_range_rad_s: float | None = None
     gyro_gap_accel_rad_s2: float | None = 100.0
@@ -161,7 +173,7 @@ class OrientationParams:
                             "gravity_sigma_m_s2": "positive", "heading_sigma_rad": "positive",
                             "tilt_aware_heading": "bool", "heading_reset_s": "optional positive",
                             "initial_bias_sigma_rad_s": "positive",
-                            "gate_probability": "optional probability",
+                            "gate_probability": "optional probability", "gravity_reset_s": "optional positive",
                             "gyro_range_rad_s": "optional positive",
                             "gyro_gap_accel_rad_s2": "optional positive", "accel_tau_s": "optional positive",
                             "mag_settle_s": "optional positive", "mag_check_tau_s": "positive",
@@ -352,8 +364,11 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
     model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,
                                 params.gyro_gap_accel_rad_s2)
     ekf = ModelEKF(model, np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
-    measurements = [Measurements(gravity_sensor(params.gravity_sigma_m_s2, gated=params.accel_tau_s is None), log.t,
-                                 accel)]
+    gated = params.accel_tau_s is None or params.gravity_reset_s is not None
+    tilt = gravity_sensor(params.gravity_sigma_m_s2, gated=gated)
+    if params.gravity_reset_s is not None:  # refused gravity: a sustained acceleration, until it lasts this long
+        tilt = replace(tilt, reset_after_s=params.gravity_reset_s)
+    measurements = [Measurements(tilt, log.t, accel)]
     if has_mag:
         context = np.where(good_m[:, None], log.mag, np.nan)
         # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal

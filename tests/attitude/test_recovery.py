@@ -29,12 +29,14 @@ def _errors(params):
 
 def test_heading_and_inclination_recover_within_10_s_without_a_false_bias():
     heading, inclination, bias = _errors(OrientationParams())
-    assert heading < 1.0 and inclination < 1.0  # measured: 0.3° and 0.1°
+    assert heading < 1.0 and inclination < 1.0  # measured: 0.13° and 0.06°
     assert bias < 0.1  # °/s; the true bias is zero
 
 
-@pytest.mark.parametrize("what", ["heading", "bias"])
+@pytest.mark.parametrize("what", ["heading", "inclination"])
 def test_a_gap_bridged_at_the_last_rate_and_trusted_does_not_recover(what):
-    """The contrast: without pricing the gap, the same log ends tens of degrees off, with a false bias."""
-    heading, _, bias = _errors(OrientationParams(gyro_gap_accel_rad_s2=None))
-    assert {"heading": heading > 10.0, "bias": bias > 0.5}[what]
+    """The contrast: without pricing the gap, the estimate after it is confidently wrong, the gate refuses
+    gravity and the field alike, and the same log ends tens of degrees off (33° heading, 58° inclination:
+    gravity's reset would come 30 s after the gap, past the log's end)."""
+    heading, inclination, _ = _errors(OrientationParams(gyro_gap_accel_rad_s2=None))
+    assert {"heading": heading, "inclination": inclination}[what] > 10.0

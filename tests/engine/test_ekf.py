@@ -296,15 +296,18 @@ def test_run_attitude_filter_equals_its_readable_run(name, noise, assert_same_ru
     np.testing.assert_allclose(compiled.q_nb, readable.q_nb, rtol=0, atol=1e-10)
 
 
+TURNS = fixedwing_samples(fixedwing_flight(rate_hz=50.0), FixedWingNoise(), np.random.default_rng(12))
 ORIENTATION = {
     "BROAD slice": (load_broad_trial("24_disturbed_tapping_A").log.slice(0, 2500), OrientationParams()),
     "hard log, tight gate": (LOG, OrientationParams(gate_probability=0.9, gyro_range_rad_s=GYRO_RANGE,
                                                     gravity_sigma_m_s2=0.2, accel_tau_s=None)),
     "no magnetometer, no rest, no gate": (ImuLog(LOG.t, LOG.gyro, LOG.accel),
                                           OrientationParams(gate_probability=None, rest_min_s=None)),
-    # the turns' acceleration tilts the estimate and turns its heading away: headings reset once they agree
-    "fixed-wing turns": (fixedwing_samples(fixedwing_flight(rate_hz=50.0), FixedWingNoise(), np.random.default_rng(12)),
-                         OrientationParams()),
+    # gravity ungated, the turns' acceleration tilts the estimate and turns its heading away: headings reset
+    # once they agree
+    "fixed-wing turns": (TURNS, OrientationParams(gravity_reset_s=None)),
+    # gravity refused through the turns, and reset after 2 s of it
+    "fixed-wing turns, gravity reset": (TURNS, OrientationParams(gravity_reset_s=2.0)),
     # 30-75 s of a magnet turning with the sensor: headings refused for seconds without agreeing, one reset
     "BROAD 34, a magnet turning with the sensor": (
         load_broad_trial("34_disturbed_attached_magnet_3cm").log.slice(8571, 21429), OrientationParams()),
@@ -330,6 +333,8 @@ def test_orientation_run_equals_its_readable_run(case, offline, assert_same_run)
     heading = compiled.sensors.get("heading")
     if case == "fixed-wing turns":
         assert heading.reset.sum() >= 5
+    if case == "fixed-wing turns, gravity reset":
+        assert compiled.sensors["gravity"].reset.sum() >= 3
     if case.startswith("BROAD 34") and not offline:  # offline judges each reading alone: other lock-outs
         assert heading.reset.any() and _refused_past(heading, params.heading_reset_s) > 100
     assert_same_run(compiled, orientation_run(log, params, offline=offline, compiled=False))
