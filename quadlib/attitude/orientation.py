@@ -3,9 +3,10 @@
 The gyro drives the prediction (:func:`~quadlib.attitude.bias_model.attitude_bias_model`); two
 updates correct it, each only where its sensor can be trusted:
 
-* **gravity** — the accelerometer as the specific force at rest, ``h(x) = R(q)ᵀ(−g_n)``, skipped
-  when its norm is off g₀ (:mod:`quadlib.attitude.checks`) and gated on its NIS, so motion,
-  shocks and free fall do not tilt the estimate;
+* **gravity** — the accelerometer, averaged in a non-rotating frame, as the specific force at
+  rest, ``h(x) = R(q)ᵀ(−g_n)``, skipped when its norm is off g₀ (:mod:`quadlib.attitude.checks`)
+  and gated on its NIS, so shocks, free fall and a lasting acceleration (a banked turn) do not tilt
+  the estimate; after 30 s of refusals the tilt is reset to it (``gravity_reset_s``);
 * **heading** — the magnetometer corrects the heading only: the measured field, turned into the
   earth frame with the current attitude, should point to magnetic north; its horizontal angle is
   the innovation. The field's dip never touches roll and pitch (they come from gravity), and
