@@ -77,10 +77,10 @@ class OrientationParams:
         more than their noise, as a magnet turning with the sensor makes them, stay refused. None:
         a refused heading is never reset. With gravity gated (``gravity_reset_s``) no reset happens
         on chapter 15's fixed-wing flight, and one on the ten BROAD trials (trial 34 at 70 s: 3.29°
-        total error, 3.21° without the reset). Ungated, the flight's turns
-        tilt the estimate, and the bias learnt from that turns the heading away until the gate
-        refuses every heading: over ten noise draws at 25, 50 and 100 Hz the mean total error is
-        21.8°, 27.3° and 40.2° without the reset, 18.0°, 20.5° and 27.3° with it.
+        total error, 3.21° without the reset). Ungated, the flight's turns tilt the estimate, and
+        the bias learnt from that turns the heading away until the gate refuses every heading: over
+        ten noise draws at 25, 50 and 100 Hz the mean total error is 21.8°, 27.3° and 40.2° without
+        the reset, 18.0°, 20.5° and 27.3° with it.
     initial_bias_sigma_rad_s : float
         σ of the gyro bias at the start [rad/s] (the bias starts at zero).
     gate_probability : float or None
@@ -94,9 +94,9 @@ class OrientationParams:
         through it. Ungated, the turn pulls the estimate level, the gyro bias learns the difference
         and turns the heading away. On chapter 15's fixed-wing flight without airspeed (ten noise
         draws each at 25, 50 and 100 Hz; ``benchmarks/orientation_rates.py``) the mean total error
-        is 3.2°, 3.6° and 4.5° with 30 s, 18.0°, 20.5° and 27.3° with None, and VQF's 18.6°, 18.5° and
-        18.6°; on the ten BROAD trials 1.64° and 1.63°. 30 s, chosen with that flight in view, outlasts its
-        longest turn (18 s). The reset is what makes the
+        is 3.2°, 3.6° and 4.5° with 30 s, 18.0°, 20.5° and 27.3° with None, and VQF's 18.6°, 18.5°
+        and 18.6°; on the ten BROAD trials, 1.64° with 30 s and 1.63° with None. 30 s was chosen
+        with that flight in view: it outlasts its longest turn (18 s). The reset is what makes the
         gate safe: an average over seconds cannot jump, so once an estimate has drifted from it a
         gate alone would refuse it for good. None: the low-passed gravity is never gated (the raw
         accelerometer's still is, with no reset).
