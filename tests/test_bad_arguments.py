@@ -830,7 +830,7 @@ PROBES += [
                                           "gate_probability": PROB, "gyro_range_rad_s": POS, "checks": WRONG_TYPE,
                                           "rest_gyro_rad_s": POS, "rest_accel_m_s2": POS, "rest_min_s": POS,
                                           "heading_reset_s": POS, "mag_new_field_s": POS,
-                                          "mag_first_field_s": POS}),
+                                          "mag_first_field_s": POS, "gravity_reset_s": POS}),
     Probe(FixedWingParams, lambda: {}, {"quaternion_sigma0": POS, "n_still": COUNT, "gate_probability": PROB}),
     Probe(Quad3DParams, lambda: {}, {"accel_sigma_m_s2": st.sampled_from([(1.0, 2.0), (-1.0, 1.0, 1.0), "a"]),
                                      "yaw_rate_sigma_rad_s": POS, "initial_sigma": st.sampled_from([(1.0, -1.0), ()]),
