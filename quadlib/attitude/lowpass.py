@@ -41,7 +41,7 @@ def held_rows(values: np.ndarray) -> np.ndarray:
 
 
 def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool = False,
-                     gap_accel_rad_s2: float | None = None) -> np.ndarray:
+                     gap_accel_rad_s2: float | None = None, second_order: bool = False) -> np.ndarray:
     """The accelerometer low-passed in a frame that does not turn with the body, ``(N, 3)`` in the
     body frame.
 
@@ -60,10 +60,15 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
 
     ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
     in time, a symmetric window around each sample that does not lag.
+
+    ``second_order``: VQF's second-order Butterworth low-pass instead (cut-off ``√2/(2π τ)``, the
+    mean of the first ``τ`` seconds until then). It passes gravity alike and damps a translation's
+    accelerations ten times more a decade above the cut-off.
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")
     tau, two_sided = as_positive("tau_s", tau_s), as_bool("two_sided", two_sided)
+    second_order = as_bool("second_order", second_order)
     gyro = log.gyro
     if gyro_bias is not None:
         bias = as_finite_array("gyro_bias", gyro_bias)
@@ -78,9 +83,9 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
         lost[1:] = alpha * (held_for[:-1] + np.diff(log.t)) ** 2 / 2 > np.radians(1.0)
         lost[1:] &= held_for[:-1] > 0
     gyro = np.ascontiguousarray(held_rows(gyro), dtype=float)
-    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, False)
+    forward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, False, second_order)
     if not two_sided:
         return forward
-    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, True)
+    backward = inertial_lowpass_pass(log.t, gyro, log.accel, usable, lost, tau, True, second_order)
     both = 0.5 * (forward + backward)
     return np.where(np.isnan(forward), backward, np.where(np.isnan(backward), forward, both))

@@ -46,35 +46,57 @@ def calm_samples(t, gyro, accel, gyro_th, accel_th, tau):
     return calm
 
 
+@njit(cache=True)
+def butterworth(tau, dt):
+    """``(b₀, a₁, a₂)`` of VQF's second-order Butterworth low-pass of time constant ``tau`` at step
+    ``dt`` (cut-off ``√2 / (2π τ)``; ``b₁ = 2 b₀``, ``b₂ = b₀``)."""
+    c = math.tan(math.sqrt(2.0) / (2.0 * tau) * dt)
+    d = c * c + math.sqrt(2.0) * c + 1.0
+    return c * c / d, 2.0 * (c * c - 1.0) / d, (1.0 - math.sqrt(2.0) * c + c * c) / d
+
+
 @called_from_python
 @njit(cache=True)
-def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward):
+def inertial_lowpass_pass(t, gyro, accel, usable, lost, tau, backward, second_order):
     """One direction of :func:`~quadlib.attitude.lowpass.inertial_lowpass`: the frame is
     integrated from the gyro over each step, forwards or backwards in time, and the average starts
-    afresh after a step whose turn is lost (``lost[k]``: the step from sample ``k − 1`` to ``k``)."""
+    afresh after a step whose turn is lost (``lost[k]``: the step from sample ``k − 1`` to ``k``).
+    The average is first-order, or with ``second_order`` VQF's Butterworth (:func:`butterworth`),
+    which until ``tau`` seconds of samples have passed is their mean and then starts from it."""
     n = t.shape[0]
     out = np.full_like(accel, np.nan)
     q = np.array([1.0, 0.0, 0.0, 0.0])
-    mean = np.zeros(3)
-    have_mean = False
+    mean, s1, s2 = np.zeros(3), np.zeros(3), np.zeros(3)  # s1, s2: the Butterworth's state
+    count, span, warm = 0, 0.0, False  # samples and seconds averaged since the start; the filter running
     previous = -1
     for i in range(n):
         k = n - 1 - i if backward else i
+        dt = 0.0
         if previous >= 0:  # turn the frame from the previous sample to this one
             step = t[k] - t[previous]
             rate = gyro[previous] if step > 0 else -gyro[k]
             q = multiply(q, exp_rotvec(rate * abs(step)))
+            dt = abs(step)
             if lost[max(k, previous)]:
-                have_mean = False
+                count = 0
         R = dcm(q)
         if usable[k]:
             a_i = times(R, accel[k])  # sums: a BLAS call costs more than a 3×3 product
-            dt = abs(t[k] - t[previous]) if previous >= 0 else 0.0
-            if have_mean:
+            if count == 0:
+                mean, count, span, warm = a_i, 1, 0.0, False
+            elif not second_order:
                 mean = mean + dt / (tau + dt) * (a_i - mean)
-            else:
-                mean, have_mean = a_i, True
-        if have_mean:
+            elif not warm:  # the mean of the first tau seconds, then the filter's steady state at it
+                count, span = count + 1, span + dt
+                mean = mean + (a_i - mean) / count
+                if span >= tau:
+                    b0, a1, a2 = butterworth(tau, dt)
+                    s1, s2, warm = mean * (1.0 - b0), mean * (b0 - a2), True
+            else:  # direct form II transposed
+                b0, a1, a2 = butterworth(tau, dt)
+                mean = b0 * a_i + s1
+                s1, s2 = 2.0 * b0 * a_i - a1 * mean + s2, b0 * a_i - a2 * mean
+        if count > 0:
             out[k] = times(R.T, mean)
         previous = k
     return out

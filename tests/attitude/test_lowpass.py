@@ -23,9 +23,10 @@ def test_the_compiled_lowpasses_equal_their_interpreted_source():
     lost = np.zeros(len(log), bool)
     lost[[40, 41, 900]] = True  # two frames lost: the average starts afresh after each
     for backward in (False, True):
-        np.testing.assert_array_equal(
-            inertial_lowpass_pass(log.t, gyro, accel, usable, lost, 3.0, backward),
-            inertial_lowpass_pass.py_func(log.t, gyro, accel, usable, lost, 3.0, backward))
+        for second_order in (False, True):
+            np.testing.assert_array_equal(
+                inertial_lowpass_pass(log.t, gyro, accel, usable, lost, 1.0, backward, second_order),
+                inertial_lowpass_pass.py_func(log.t, gyro, accel, usable, lost, 1.0, backward, second_order))
     args = (log.t, log.gyro, accel, params.rest_gyro_rad_s, params.rest_accel_m_s2, 0.5)
     assert np.array_equal(calm_samples(*args), calm_samples.py_func(*args))
     assert rest_mask(log, 0.1, 0.5, 0.5).dtype == bool
