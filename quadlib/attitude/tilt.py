@@ -1,0 +1,43 @@
+"""The orientation filter's tilt, moved toward the averaged gravity's where the two agree."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
+from quadlib.validation import as_positive, as_quaternions
+
+__all__ = ["refined_tilt"]
+
+
+def refined_tilt(q_nb, specific_force_b, width_rad: float) -> np.ndarray:
+    """``q_nb`` (N, 4) with each tilt moved toward the one an averaged specific force gives.
+
+    The gap ``γ`` is the angle, in the earth frame, between down and the average's down turned by
+    the attitude, ``R(q) (−f̄/|f̄|)``. Each attitude is turned about the horizontal axis that closes
+    the gap, by ``γ · max(0, 1 − γ/w)`` with ``w = width_rad``: nearly all of it while the two agree
+    closely, none once they part by ``w`` or more (a lasting acceleration the average keeps, as in
+    a banked turn), never more than ``w/4``, and continuously, so the result does not jump. Rows
+    where the average is missing (NaN) are unchanged; the heading is left as it is.
+
+    Why: a Kalman update treats each averaged sample as a fresh measurement and smooths them again,
+    so the filter's tilt follows the average with a lag of its own; the average itself, taken with
+    a second-order low-pass, is the better tilt wherever nothing lasting accelerates the sensor
+    (VQF's inclination is the average's direction, Laidig & Seel 2023, §3).
+    """
+    q = as_quaternions("q_nb", q_nb)
+    f = np.asarray(specific_force_b, dtype=float)
+    if f.shape != (len(q), 3):
+        raise ValueError(f"specific_force_b: expected shape ({len(q)}, 3), got {f.shape}")
+    width = as_positive("width_rad", width_rad)
+    norm = np.linalg.norm(f, axis=1)
+    ok = np.isfinite(norm) & (norm > 0)
+    down = np.einsum("nij,nj->ni", quat_to_dcm(q[ok]), -f[ok] / norm[ok, None])  # the average's down, earth frame
+    axis = np.column_stack([down[:, 1], -down[:, 0], np.zeros(ok.sum())])  # down × e_z, horizontal
+    sin_gap = np.linalg.norm(axis, axis=1)
+    gap = np.arctan2(sin_gap, down[:, 2])
+    turn = gap * np.clip(1.0 - gap / width, 0.0, 1.0)
+    unit = axis / np.where(sin_gap > 0, sin_gap, 1.0)[:, None]
+    out = q.copy()
+    out[ok] = quat_multiply(np.column_stack([np.cos(turn / 2), unit * np.sin(turn / 2)[:, None]]), q[ok])
+    return out
