@@ -61,9 +61,10 @@ def inertial_lowpass(log: ImuLog, tau_s: float, gyro_bias=None, two_sided: bool 
     ``two_sided`` (offline use): the mean of the low-pass run forwards and the same run backwards
     in time, a symmetric window around each sample that does not lag.
 
-    ``second_order``: VQF's second-order Butterworth low-pass instead (cut-off ``√2/(2π τ)``, the
-    mean of the first ``τ`` seconds until then). It passes gravity alike and damps a translation's
-    accelerations ten times more a decade above the cut-off.
+    ``second_order``: VQF's second-order Butterworth low-pass instead (cut-off ``√2/(2π τ)``, its
+    coefficients from each step's Δt; the mean of the first ``τ`` seconds until then). It passes
+    gravity alike; above the cut-off it damps a translation's accelerations as ``1/f²``, not ``1/f``:
+    ``π f τ`` times more at frequency ``f``, about 7 times at ten times its cut-off.
     """
     if not isinstance(log, ImuLog):
         raise TypeError(f"log: expected an ImuLog, got {type(log).__name__}")

@@ -106,14 +106,18 @@ class OrientationParams:
         second-order low-pass (``accel_tau_s``, de-biased with the filter's bias; two-sided offline):
         nearly all the way while the two agree, not at all once they part by this many degrees
         (:func:`~quadlib.attitude.tilt.refined_tilt`; at most a quarter of it). The filter itself
-        is unchanged (``run.P`` is its own). Why: the Kalman update smooths the averaged gravity
-        again, and its tilt lags the average. On the ten BROAD trials the mean inclination error
+        is unchanged: ``run.x``'s quaternion is the refined one, but ``run.P``, the innovations and
+        every update refer to the filter's own tilt, so a consistency test (NEES) or a restart from
+        ``run.x`` should use ``tilt_refinement_deg=None``. Why: the Kalman update smooths the
+        averaged gravity again, and its tilt lags the average (offline, where the smoother's tilt
+        does not lag, the gain is smaller). In the average's first τ seconds, a running mean, a
+        start in motion is pulled by up to a quarter of the width. On the ten BROAD trials the mean inclination error
         falls from 0.71° to 0.65° online (VQF's 0.67°; ``benchmarks/broad_loo.py``, where every fold
         keeps it) and from 0.59° to 0.57° offline, the heading's unchanged; on chapter 15's flight
         the mean total error is 3.1°, 3.5° and 4.4° at 25, 50 and 100 Hz, against 3.2°, 3.6° and
-        4.5° without it. 4° is set from
-        the physics, not tuned: where nothing lasting accelerates the sensor the two part by under
-        1° (BROAD's 99th percentile), and in a banked turn by the bank angle. None: the filter's tilt.
+        4.5° without it. 4° was chosen from two facts, not swept: where nothing lasting
+        accelerates the sensor the two part by under 1° (BROAD's 99th percentile), and in a banked
+        turn by the bank angle. None: the filter's tilt.
     checks : SensorChecks
         When an accelerometer or magnetometer sample is implausible and skipped. The field's
         strength must stay within 5 % of the reference's (:class:`SensorChecks`' own default is

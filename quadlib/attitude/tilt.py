@@ -13,12 +13,16 @@ __all__ = ["refined_tilt"]
 def refined_tilt(q_nb, specific_force_b, width_rad: float) -> np.ndarray:
     """``q_nb`` (N, 4) with each tilt moved toward the one an averaged specific force gives.
 
-    The gap ``γ`` is the angle, in the earth frame, between down and the average's down turned by
-    the attitude, ``R(q) (−f̄/|f̄|)``. Each attitude is turned about the horizontal axis that closes
-    the gap, by ``γ · max(0, 1 − γ/w)`` with ``w = width_rad``: nearly all of it while the two agree
-    closely, none once they part by ``w`` or more (a lasting acceleration the average keeps, as in
-    a banked turn), never more than ``w/4``, and continuously, so the result does not jump. Rows
-    where the average is missing (NaN) are unchanged; the heading is left as it is.
+    The gap ``γ`` is the angle between down, ``e_z`` in NED, and the average's down turned into the
+    earth frame by the attitude, ``R(q) (−f̄/|f̄|)``. Each attitude is turned, in the earth frame
+    (multiplied from the left), about the horizontal axis that closes the gap, by
+    ``γ · max(0, 1 − γ/w)`` with ``w = width_rad``: nearly all of a small gap, none once the two part
+    by ``w`` or more (a lasting acceleration the average keeps, as in a banked turn), and never more
+    than ``w/4`` (at ``γ = w/2``). The turn is a continuous function of the gap, so it adds no jump
+    of its own; the gap itself can jump where the average restarts (after a lost gyro gap), and a row
+    whose average is missing (NaN) is returned unchanged, up to ``w/4`` from its neighbours. A turn
+    about a horizontal axis leaves the heading unchanged only to second order (about half the turn
+    times the tilt's error): on the ten BROAD trials the mean heading error moves by under 0.01°.
 
     Why: a Kalman update treats each averaged sample as a fresh measurement and smooths them again,
     so the filter's tilt follows the average with a lag of its own; the average itself, taken with
