@@ -7,7 +7,7 @@ import numpy as np
 from quadlib.geometry.quaternion import quat_multiply, quat_to_dcm
 from quadlib.validation import as_positive, as_quaternions
 
-__all__ = ["refined_tilt"]
+__all__ = ["refined_tilt", "tilt_gap"]
 
 
 def refined_tilt(q_nb, specific_force_b, width_rad: float) -> np.ndarray:
@@ -30,18 +30,31 @@ def refined_tilt(q_nb, specific_force_b, width_rad: float) -> np.ndarray:
     (VQF's inclination is the average's direction, Laidig & Seel 2023, §3).
     """
     q = as_quaternions("q_nb", q_nb)
+    width = as_positive("width_rad", width_rad)
+    ok, gap, axis = _gap_and_axis(q, specific_force_b)
+    turn = gap[ok] * np.clip(1.0 - gap[ok] / width, 0.0, 1.0)
+    out = q.copy()
+    out[ok] = quat_multiply(np.column_stack([np.cos(turn / 2), axis * np.sin(turn / 2)[:, None]]), q[ok])
+    return out
+
+
+def tilt_gap(q_nb, specific_force_b) -> np.ndarray:
+    """``γ`` (N,) [rad]: the angle between down and the averaged specific force's down turned into
+    the earth frame by ``q_nb`` (:func:`refined_tilt`'s gap); NaN where the average is missing."""
+    return _gap_and_axis(as_quaternions("q_nb", q_nb), specific_force_b)[1]
+
+
+def _gap_and_axis(q, specific_force_b):
+    """``(ok, γ, axis)``: the rows with an average, the gap at every row (NaN elsewhere) and, for the
+    rows ``ok``, the unit horizontal axis ``d × e_z`` that closes it (``d`` the average's down in NED)."""
     f = np.asarray(specific_force_b, dtype=float)
     if f.shape != (len(q), 3):
         raise ValueError(f"specific_force_b: expected shape ({len(q)}, 3), got {f.shape}")
-    width = as_positive("width_rad", width_rad)
     norm = np.linalg.norm(f, axis=1)
     ok = np.isfinite(norm) & (norm > 0)
     down = np.einsum("nij,nj->ni", quat_to_dcm(q[ok]), -f[ok] / norm[ok, None])  # the average's down, earth frame
     axis = np.column_stack([down[:, 1], -down[:, 0], np.zeros(ok.sum())])  # down × e_z, horizontal
     sin_gap = np.linalg.norm(axis, axis=1)
-    gap = np.arctan2(sin_gap, down[:, 2])
-    turn = gap * np.clip(1.0 - gap / width, 0.0, 1.0)
-    unit = axis / np.where(sin_gap > 0, sin_gap, 1.0)[:, None]
-    out = q.copy()
-    out[ok] = quat_multiply(np.column_stack([np.cos(turn / 2), unit * np.sin(turn / 2)[:, None]]), q[ok])
-    return out
+    gap = np.full(len(q), np.nan)
+    gap[ok] = np.arctan2(sin_gap, down[:, 2])
+    return ok, gap, axis / np.where(sin_gap > 0, sin_gap, 1.0)[:, None]
