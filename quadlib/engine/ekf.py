@@ -93,7 +93,7 @@ class Samples(NamedTuple):
 
 
 class SigmaArrays(NamedTuple):
-    """A UKF's sigma points: the weights ``Wm``, ``Wc`` (empty for an EKF), ``scale = λ + n`` of
+    """A UKF's sigma points: the weights ``Wm``, ``Wc``, ``scale = λ + n`` of
     ``U = chol(scale · P)``, and an additive state's ``⊟`` and mean (``kinds (2,)``, ``-1``: ``x₁ − x₀``
     and ``w X``) with their ``params (2, m)``."""
 
@@ -175,9 +175,10 @@ def ekf_predict(m, x, P, u, dt, q_dt, Q):
 def _linearized(m, sens, s, x, c):
     """``H`` over ``P``'s coordinates, and ``ẑ``."""
     H = measurement_jacobian(sens.kinds[s, 1], x, c, sens.params[s, 1])
+    z_hat = measure(sens.kinds[s, 0], x, c, sens.params[s, 0])
     if m.error_state and m.kinds[ADD_JAC] >= 0:
-        H = product(H, add_jacobian(m.kinds[ADD_JAC], x, m.params[ADD_JAC]))
-    return H, measure(sens.kinds[s, 0], x, c, sens.params[s, 0])
+        return product(H, add_jacobian(m.kinds[ADD_JAC], x, m.params[ADD_JAC])), z_hat
+    return H, z_hat
 
 
 @njit(cache=True, inline="always")

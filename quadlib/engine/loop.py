@@ -25,10 +25,30 @@ __all__ = ["filter_pass"]
 
 
 @njit(cache=True, inline="always")
+def _predict(m, sig, x, P, u, dt, q_dt, Q):
+    """An EKF's predict when ``sig`` is None, else a UKF's (the branch is pruned when compiled)."""
+    if sig is None:
+        return ekf_predict(m, x, P, u, dt, q_dt, Q)
+    return ukf_predict(m, sig, x, P, u, dt, q_dt, Q)
+
+
+@njit(cache=True, inline="always")
 def _correct(m, sens, sig, s, x, P, z, c, rows):
-    if sig.Wm.shape[0]:
-        return ukf_correct(m, sens, sig, s, x, P, z, c, rows)
-    return ekf_correct(m, sens, s, x, P, z, c, rows)
+    """An EKF's update when ``sig`` is None, else a UKF's (the branch is pruned when compiled)."""
+    if sig is None:
+        return ekf_correct(m, sens, s, x, P, z, c, rows)
+    return ukf_correct(m, sens, sig, s, x, P, z, c, rows)
+
+
+@njit(cache=True)
+def _groups_rejected(S, y, group, gates, force, rejected):
+    """Which of a sample's several groups the gate rejects: each group's own ``yᵀ S⁻¹ y`` (kept out
+    of the inlined update, which sensors with one group run)."""
+    kz = y.shape[0]
+    for g in range(rejected.shape[0]):
+        rows = np.array([r for r in range(kz) if group[r] == g])
+        y_g = y[rows]
+        rejected[g] = not force[g] and y_g @ np.linalg.solve(S[rows][:, rows], y_g) > gates[g]
 
 
 @njit(cache=True, inline="always")
@@ -48,10 +68,7 @@ def _update(m, sens, sig, s, x, P, z, c, force, every_row):
         if ng == 1:
             rejected[0] = nis > sens.gates[s, 0] and not force[0]
         else:
-            for g in range(ng):
-                rows = np.array([r for r in range(kz) if group[r] == g])
-                y_g = y[rows]
-                rejected[g] = not force[g] and y_g @ np.linalg.solve(S[rows][:, rows], y_g) > sens.gates[s, g]
+            _groups_rejected(S, y, group[:kz], sens.gates[s], force, rejected)
     if not rejected.any():
         return x1, P1, y, S, nis, True, rejected, True
     keep = np.array([r for r in range(kz) if not rejected[group[r]]])
@@ -61,7 +78,7 @@ def _update(m, sens, sig, s, x, P, z, c, force, every_row):
     return x2, P2, y, S, nis, True, rejected, healthy
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _widened(m, sens, s, x, P, z, c, expired):
     """``P`` widened along the rows of the ``expired`` groups
     (:meth:`~quadlib.model_filter.ModelFilter.inflate_toward`)."""
@@ -88,9 +105,9 @@ def _widened(m, sens, s, x, P, z, c, expired):
 @njit(cache=True)
 def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
     """The forward pass over a log of times ``t (N,)`` and held inputs ``u (N, m)``, from ``x0``, ``P0``
-    with ``Q = Q(q_dt)`` computed last; a UKF's when ``sigma`` has weights, else an EKF's. Returns
-    ``x (N, n)``, ``P (N, p, p)`` (NaN from a step where the UKF stopped), the last ``q_dt`` and
-    ``Q``, and for each sensor and sample (padded like ``samples.z``) the innovation, ``S``, NIS
+    with ``Q = Q(q_dt)`` computed last; an EKF's when ``sigma`` is None, else a UKF's (numba compiles
+    the two apart). Returns ``x (N, n)``, ``P (N, p, p)`` (NaN from a step where the UKF stopped), the
+    last ``q_dt`` and ``Q``, and for each sensor and sample (padded like ``samples.z``) the innovation, ``S``, NIS
     (NaN where not applied), and whether it was used, rejected (any group) or reset."""
     N, n_sensors = t.shape[0], sensors.dim_z.shape[0]
     K, k_max = samples.z.shape[1], samples.z.shape[2]
@@ -107,10 +124,7 @@ def filter_pass(t, u, x0, P0, q_dt, Q, model, sensors, samples, sigma):
     x, P = x0.copy(), P0.copy()
     for k in range(N):
         if k:
-            if sigma.Wm.shape[0]:
-                x, P, q_dt, Q, healthy = ukf_predict(model, sigma, x, P, u[k - 1], t[k] - t[k - 1], q_dt, Q)
-            else:
-                x, P, q_dt, Q, healthy = ekf_predict(model, x, P, u[k - 1], t[k] - t[k - 1], q_dt, Q)
+            x, P, q_dt, Q, healthy = _predict(model, sigma, x, P, u[k - 1], t[k] - t[k - 1], q_dt, Q)
             if not healthy:
                 return xs, Ps, q_dt, Q, ys, Ss, nis, used, rejected, reset
         for s in range(n_sensors):

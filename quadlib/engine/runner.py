@@ -26,7 +26,6 @@ __all__ = ["backward", "forward", "model_arrays", "plan"]
 
 _REQUIRED = ("g", "G", "Q")
 _UNUSED_BY_UKF = ("G", "add_jacobian")
-_NO_SIGMA = SigmaArrays(np.zeros(0), np.zeros(0), 0.0, np.full(2, -1, np.int64), np.zeros((2, 1)))
 
 
 def _kernel(owner: str, role: str, f) -> tuple[int, np.ndarray] | str:
@@ -90,14 +89,14 @@ def _sigma_arrays(filt: ModelUKF) -> SigmaArrays | str:
 
 
 def plan(filt, measurements: list, gate_probability: float | None) -> tuple[ModelArrays, SensorArrays,
-                                                                              SigmaArrays] | str:
+                                                                              SigmaArrays | None] | str:
     """The engine's records of ``filt`` (advanced from its current state), the sensors of
     ``measurements``, gated at ``gate_probability``, and a UKF's sigma points; or why it must run on
     the readable loop."""
     if type(filt) not in (ModelEKF, ModelUKF):
         return f"the filter is a {type(filt).__name__}; the engine runs ModelEKF and ModelUKF"
     unscented = type(filt) is ModelUKF
-    sigma = _sigma_arrays(filt) if unscented else _NO_SIGMA
+    sigma = _sigma_arrays(filt) if unscented else None
     if isinstance(sigma, str):
         return sigma
     model = model_arrays(filt.model, unscented)
@@ -154,7 +153,7 @@ def _samples(measurements: list, per_sensor: list, k: int) -> Samples:
     return Samples(t, z, c, use, step, np.array([a.size for a in applied], np.int64))
 
 
-def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays, SigmaArrays], t: np.ndarray,
+def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays, SigmaArrays | None], t: np.ndarray,
             u: np.ndarray,
             measurements: list, per_sensor: list) -> tuple | None:
     """The forward pass from ``filt``'s state over times ``t`` with held inputs ``u``, each sensor's
