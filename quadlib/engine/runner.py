@@ -166,7 +166,7 @@ def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays,
     try:
         with np.errstate(all="ignore"):
             xs, Ps, q_dt, Q, *traces = filter_pass(
-                np.ascontiguousarray(t, np.float64), np.require(u, np.float64, "CW"),
+                np.require(t, np.float64, "CW"), np.require(u, np.float64, "CW"),
                 np.array(filt.state_view(), np.float64), np.array(filt.P, np.float64), float(q_dt),
                 np.array(Q, np.float64), model, sensors, _samples(measurements, per_sensor, sensors.R.shape[1]), sigma)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
@@ -188,7 +188,7 @@ def backward(records: ModelArrays, t: np.ndarray, u: np.ndarray, xs: np.ndarray,
     smoothed, or None if it raised (the readable pass then runs)."""
     try:
         with np.errstate(all="ignore"):
-            return rts_pass(np.ascontiguousarray(t, np.float64), np.require(u, np.float64, "CW"),
+            return rts_pass(np.require(t, np.float64, "CW"), np.require(u, np.float64, "CW"),
                             np.require(xs, np.float64, "CW"), np.require(Ps, np.float64, "CW"), records)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         return None
