@@ -11,6 +11,7 @@ import numpy as np
 
 from quadlib import ModelEKF
 from quadlib.attitude.bias_model import additive_attitude_bias_model
+from quadlib.attitude.complementary import euler_rate_complementary, nonlinear_complementary
 from quadlib.attitude.kesten import FILTERS, AttitudeNoise, run_attitude_filter
 from quadlib.attitude.orientation import (
     OrientationParams,
@@ -64,6 +65,8 @@ def main() -> None:
     add_refused(refused, np.zeros(1), np.zeros(1, np.int64), np.ones(1, np.bool_))
     scatter_agrees(refused[0], 1.0, 3.0)
     cast_rays(np.zeros((1, 2)), np.zeros(1), np.zeros(1), corridor_map())  # the lidar's ray caster
+    for complementary in (euler_rate_complementary, nonlinear_complementary):  # chapter 10's, on one-quaternion kernels
+        complementary(0.01, short.gyro, short.accel, 0.5)
     flight, noise = fixedwing_flight(rate_hz=10.0), FixedWingNoise()
     fw_log = fixedwing_samples(flight, noise, np.random.default_rng(2)).slice(0, 100)
     for factory in (salmony_ekf, multiplicative_ekf, error_state_ukf):  # the fixed-wing filters, both ways
