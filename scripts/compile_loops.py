@@ -22,7 +22,7 @@ from quadlib.attitude.orientation import (
 )
 from quadlib.attitude.tumble import random_rotation
 from quadlib.constants import earth_field_ned
-from quadlib.control import altitude_step, fly
+from quadlib.control import altitude_step, fly, fly_path
 from quadlib.data import load_px4_log
 from quadlib.fixedwing import (
     FixedWingNoise,
@@ -72,7 +72,8 @@ def main() -> None:
     for factory in (salmony_ekf, multiplicative_ekf, error_state_ukf):  # the fixed-wing filters, both ways
         estimate_fixedwing_attitude(fw_log, noise, factory)
         estimate_fixedwing_attitude(fw_log.slice(0, 60), noise, factory, compiled=False)
-    fly(altitude_step(), 0.1)  # the closed loop's vehicle
+    fly(altitude_step(), 0.1, x0=np.r_[np.zeros(6), 1.0, np.zeros(10)])  # the closed loop's vehicle
+    fly_path(square_course(leg_s=0.2, turn_s=0.1))  # and its position controller
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 11's filters
         estimate_quad3d(run.t, run.u, run.gps, run.mag, filter_factory=factory)
