@@ -72,7 +72,7 @@ def main() -> None:
     for factory in (salmony_ekf, multiplicative_ekf, error_state_ukf):  # the fixed-wing filters, both ways
         estimate_fixedwing_attitude(fw_log, noise, factory)
         estimate_fixedwing_attitude(fw_log.slice(0, 60), noise, factory, compiled=False)
-    fly(altitude_step(), 0.1, x0=np.r_[np.zeros(6), 1.0, np.zeros(10)])  # the closed loop's vehicle
+    fly(altitude_step(), 0.1, x0=np.r_[np.zeros(6), 1.0, np.zeros(10)])  # the vehicle; x0 is normalised
     fly_path(square_course(leg_s=0.2, turn_s=0.1))  # and its position controller
     run = simulate_run3d(square_course(leg_s=1.0, turn_s=1.0), SensorNoise3D(), np.random.default_rng(3), decimate=10)
     for factory in (quad3d_ekf, quad3d_ukf):  # chapter 11's filters
