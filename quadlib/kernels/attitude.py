@@ -20,14 +20,14 @@ from numba import njit
 from quadlib.constants import SATURATED
 from quadlib.kernels.linalg import product, wrap
 from quadlib.kernels.quaternion import (
-    body_vector_jacobian,
-    dcm,
+    dcm_entries,
     exp_rotvec,
+    half_body_vector_jacobian,
     matrix,
     multiply,
+    rate_entries,
     rate_matrix,
     rotvec,
-    skew,
 )
 
 __all__: list[str] = []  # bound by the model factories; see the module docstring
@@ -40,17 +40,20 @@ def attitude_bias_jacobian(phi, dt):
     """``∂δx⁺/∂δx`` over ``[δθ, δb]`` of one gyro step ``φ = (ω − b) Δt``
     (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
     theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-    K = skew(phi)
+    K = (0.0, -phi[2], phi[1], phi[2], 0.0, -phi[0], -phi[1], phi[0], 0.0)  # [φ]×, K[i, j] is K[3 i + j]
     if theta > 1e-6:
         a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
     else:
         a, b = 0.5 - theta**2 / 24.0, 1.0 / 6.0 - theta**2 / 120.0
-    K2, R = product(K, K), dcm(exp_rotvec(phi))
+    R = dcm_entries(exp_rotvec(phi))
     G = np.eye(6)
     for i in range(3):
         for j in range(3):
-            G[i, j] = R[j, i]
-            G[i, 3 + j] = -dt * ((1.0 if i == j else 0.0) - a * K[i, j] + b * K2[i, j])
+            K2 = 0.0  # [φ]×² summed as product() sums it
+            for m in range(3):
+                K2 += K[3 * i + m] * K[3 * m + j]
+            G[i, j] = R[3 * j + i]
+            G[i, 3 + j] = -dt * ((1.0 if i == j else 0.0) - a * K[3 * i + j] + b * K2)
     return G
 
 
@@ -91,7 +94,10 @@ def attitude_bias_step(x, u, dt, p):
 @njit(cache=True)
 def attitude_error_jacobian(x, u, dt, p):
     """``G`` of the error ``[δθ, δb]``, ``(6, 6)``: ``R(φ)ᵀ`` and ``−Δt J_r(φ)``, ``φ = (ω − b) Δt``."""
-    return attitude_bias_jacobian((u[:3] - x[4:7]) * dt, dt)
+    phi = np.empty(3)
+    for i in range(3):
+        phi[i] = (u[i] - x[4 + i]) * dt
+    return attitude_bias_jacobian(phi, dt)
 
 
 @njit(cache=True)
@@ -177,7 +183,10 @@ def attitude_bias_add_jacobian(x, p):
     """``∂(x ⊞ δx)/∂δx`` at 0: ``½ Ξ(q)`` for the quaternion, the identity for the rest."""
     n = x.shape[0]
     J = np.zeros((n, n - 1))
-    J[:4, :3] = 0.5 * rate_matrix(x[:4])
+    Xi = rate_entries(x)
+    for i in range(4):
+        for j in range(3):
+            J[i, j] = 0.5 * Xi[3 * i + j]
     for i in range(4, n):
         J[i, i - 1] = 1.0
     return J
@@ -209,35 +218,37 @@ def normalize_quaternion_jacobian(x, p):
 @njit(cache=True)
 def body_vector(x, c, p):
     """``h = R(q)ᵀ r``, the earth vector ``r = p[:3]`` seen in the body (gravity's ``−g_n``, the field)."""
-    R = dcm(x[:4])
-    return np.array([R[0, 0] * p[0] + R[1, 0] * p[1] + R[2, 0] * p[2],
-                     R[0, 1] * p[0] + R[1, 1] * p[1] + R[2, 1] * p[2],
-                     R[0, 2] * p[0] + R[1, 2] * p[1] + R[2, 2] * p[2]])
+    R = dcm_entries(x)  # R[i, j] is R[3 i + j]
+    return np.array([R[0] * p[0] + R[3] * p[1] + R[6] * p[2],
+                     R[1] * p[0] + R[4] * p[1] + R[7] * p[2],
+                     R[2] * p[0] + R[5] * p[1] + R[8] * p[2]])
 
 
 @njit(cache=True)
 def body_vector_H(x, c, p):
     """``∂(R(q)ᵀ r)/∂x``, ``(3, n)`` with ``n = p[3]``: the quaternion's columns, zero for the rest."""
     J = np.zeros((3, int(p[3])))
-    J[:, :4] = body_vector_jacobian(x[:4], p[:3])
+    half = half_body_vector_jacobian(x, p)
+    for i in range(3):
+        for j in range(4):
+            J[i, j] = 2.0 * half[4 * i + j]
     return J
 
 
 @njit(cache=True)
 def field_heading(x, c, p):
     """The heading of the body field ``c`` turned into the earth frame, east of north [rad]."""
-    R = dcm(x[:4])
-    return np.array([math.atan2(R[1, 0] * c[0] + R[1, 1] * c[1] + R[1, 2] * c[2],
-                                R[0, 0] * c[0] + R[0, 1] * c[1] + R[0, 2] * c[2])])
+    R = dcm_entries(x)
+    return np.array([math.atan2(R[3] * c[0] + R[4] * c[1] + R[5] * c[2], R[0] * c[0] + R[1] * c[1] + R[2] * c[2])])
 
 
 @njit(cache=True)
 def heading_only_H(x, c, p):
     """The heading's Jacobian about the vertical only, ``(1, n)``, ``n = p[0]``: ``R(q)[2] · 2 Ξ(q)ᵀ``."""
-    R, Xi = dcm(x[:4]), rate_matrix(x[:4])
+    R, Xi = dcm_entries(x), rate_entries(x)  # R[i, j] is R[3 i + j], Ξ[i, j] is Xi[3 i + j]
     J = np.zeros((1, int(p[0])))
     for i in range(4):
-        J[0, i] = 2.0 * (R[2, 0] * Xi[i, 0] + R[2, 1] * Xi[i, 1] + R[2, 2] * Xi[i, 2])
+        J[0, i] = 2.0 * (R[6] * Xi[3 * i] + R[7] * Xi[3 * i + 1] + R[8] * Xi[3 * i + 2])
     return J
 
 
@@ -245,17 +256,17 @@ def heading_only_H(x, c, p):
 def tilt_aware_heading_H(x, c, p):
     """The heading's full Jacobian, ``(1, n)``, ``n = p[0]``: ``−∂ψ/∂m_n · R [m_b]× · 2 Ξ(q)ᵀ``, as
     sums (a BLAS call per small product costs more than the product)."""
-    R, Xi = dcm(x[:4]), rate_matrix(x[:4])
-    m0 = R[0, 0] * c[0] + R[0, 1] * c[1] + R[0, 2] * c[2]  # m_n = R m_b, its horizontal part
-    m1 = R[1, 0] * c[0] + R[1, 1] * c[1] + R[1, 2] * c[2]
+    R, Xi = dcm_entries(x), rate_entries(x)  # R[i, j] is R[3 i + j], Ξ[i, j] is Xi[3 i + j]
+    m0 = R[0] * c[0] + R[1] * c[1] + R[2] * c[2]  # m_n = R m_b, its horizontal part
+    m1 = R[3] * c[0] + R[4] * c[1] + R[5] * c[2]
     h2 = m0 * m0 + m1 * m1
-    w0 = (m1 * R[0, 0] - m0 * R[1, 0]) / h2  # w = −∂ψ/∂m_n · R
-    w1 = (m1 * R[0, 1] - m0 * R[1, 1]) / h2
-    w2 = (m1 * R[0, 2] - m0 * R[1, 2]) / h2
+    w0 = (m1 * R[0] - m0 * R[3]) / h2  # w = −∂ψ/∂m_n · R
+    w1 = (m1 * R[1] - m0 * R[4]) / h2
+    w2 = (m1 * R[2] - m0 * R[5]) / h2
     v = (w1 * c[2] - w2 * c[1], w2 * c[0] - w0 * c[2], w0 * c[1] - w1 * c[0])  # w [m_b]×
     J = np.zeros((1, int(p[0])))
     for i in range(4):
-        J[0, i] = 2.0 * (v[0] * Xi[i, 0] + v[1] * Xi[i, 1] + v[2] * Xi[i, 2])
+        J[0, i] = 2.0 * (v[0] * Xi[3 * i] + v[1] * Xi[3 * i + 1] + v[2] * Xi[3 * i + 2])
     return J
 
 

@@ -16,8 +16,9 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["body_vector_jacobian", "conjugate", "dcm", "euler_dcm", "exp_rotvec", "from_dcm", "from_euler",
-           "matrix", "multiply", "normalize", "rate_matrix", "rotvec", "skew", "to_euler"]
+__all__ = ["body_vector_jacobian", "conjugate", "dcm", "dcm_entries", "euler_dcm", "exp_rotvec", "from_dcm",
+           "from_euler", "half_body_vector_jacobian", "matrix", "multiply", "normalize", "rate_entries", "rate_matrix",
+           "rotvec", "skew", "to_euler"]
 
 
 @njit(cache=True)
@@ -67,14 +68,21 @@ def matrix(rows, cols, values):
 
 
 @njit(cache=True)
+def dcm_entries(q):
+    """The nine entries of :func:`dcm` row by row, as a tuple (``R[i, j]`` is entry ``3 i + j``): a
+    kernel that reads a few of them makes no array."""
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    ww, xx, yy, zz = w * w, x * x, y * y, z * z
+    return (ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y),
+            2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x),
+            2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz)
+
+
+@njit(cache=True)
 def dcm(q):
     """``R(q)`` as the homogeneous quadratic in ``q`` (equal to
     :func:`~quadlib.geometry.quaternion.quat_to_dcm` for a unit ``q``)."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    ww, xx, yy, zz = w * w, x * x, y * y, z * z
-    return matrix(3, 3, (ww + xx - yy - zz, 2 * (x * y - w * z), 2 * (x * z + w * y),
-                         2 * (x * y + w * z), ww - xx + yy - zz, 2 * (y * z - w * x),
-                         2 * (x * z - w * y), 2 * (y * z + w * x), ww - xx - yy + zz))
+    return matrix(3, 3, dcm_entries(q))
 
 
 @njit(cache=True)
@@ -145,10 +153,16 @@ def normalize(q):
 
 
 @njit(cache=True)
+def rate_entries(q):
+    """The twelve entries of :func:`rate_matrix` row by row, as a tuple (``Ξ[i, j]`` is entry ``3 i + j``)."""
+    return (-q[1], -q[2], -q[3], q[0], -q[3], q[2], q[3], q[0], -q[1], -q[2], q[1], q[0])
+
+
+@njit(cache=True)
 def rate_matrix(q):
     """``Ξ(q)``, ``(4, 3)``: ``q ⊗ [0, ω] = Ξ(q) ω``
     (:func:`~quadlib.attitude.bias_model.quaternion_rate_matrix`)."""
-    return matrix(4, 3, (-q[1], -q[2], -q[3], q[0], -q[3], q[2], q[3], q[0], -q[1], -q[2], q[1], q[0]))
+    return matrix(4, 3, rate_entries(q))
 
 
 @njit(cache=True)
@@ -156,10 +170,20 @@ def body_vector_jacobian(q, v):
     """``∂(R(q)ᵀ v)/∂q``, ``(3, 4)`` (:func:`~quadlib.geometry.quaternion.vector_jacobian`). With
     ``q = [w, r]``, ``R(q)ᵀ v = (w² − r·r) v + 2 (r·v) r − 2 w (r × v)``, so
     ``∂/∂w = 2 (w v − r × v)`` and ``∂/∂r = 2 ((r·v) I + r vᵀ − v rᵀ + w [v]×)``."""
+    J = np.empty((3, 4))
+    half = half_body_vector_jacobian(q, v)
+    for i in range(3):
+        for j in range(4):
+            J[i, j] = 2.0 * half[4 * i + j]
+    return J
+
+
+@njit(cache=True)
+def half_body_vector_jacobian(q, v):
+    """Half of :func:`body_vector_jacobian`'s twelve entries, row by row, as a tuple."""
     w, x, y, z = q[0], q[1], q[2], q[3]
     vx, vy, vz = v[0], v[1], v[2]
     rv = x * vx + y * vy + z * vz
-    return 2.0 * matrix(3, 4, (
-        w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy,
-        w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx,
-        w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv))
+    return (w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy,
+            w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx,
+            w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv)
