@@ -20,9 +20,9 @@ from numba import njit
 from quadlib.constants import SATURATED
 from quadlib.kernels.linalg import product, wrap
 from quadlib.kernels.quaternion import (
+    body_vector_jacobian,
     dcm_entries,
     exp_rotvec,
-    half_body_vector_jacobian,
     matrix,
     multiply,
     rate_entries,
@@ -228,10 +228,10 @@ def body_vector(x, c, p):
 def body_vector_H(x, c, p):
     """``∂(R(q)ᵀ r)/∂x``, ``(3, n)`` with ``n = p[3]``: the quaternion's columns, zero for the rest."""
     J = np.zeros((3, int(p[3])))
-    half = half_body_vector_jacobian(x, p)
+    entries = body_vector_jacobian(x, p)
     for i in range(3):
         for j in range(4):
-            J[i, j] = 2.0 * half[4 * i + j]
+            J[i, j] = entries[4 * i + j]
     return J
 
 

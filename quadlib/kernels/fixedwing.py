@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from quadlib.kernels.quaternion import body_vector_jacobian, dcm
+from quadlib.kernels.quaternion import body_vector_jacobian, dcm_entries
 
 __all__: list[str] = []  # bound by quadlib.fixedwing.model
 
@@ -45,12 +45,11 @@ def airspeed_accel_H(x, c, p):
 @njit(cache=True)
 def unit_field(x, c, p):
     """Eq. (14), corrected: ``R(q)ᵀ m_n + (1 − |q|²) m_n`` with the unit field ``m_n = p[:3]``."""
-    q = x[:4]
-    R = dcm(q)
-    off = 1.0 - (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    R = dcm_entries(x)  # R[i, j] is R[3 i + j]
+    off = 1.0 - (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[3] * x[3])
     out = np.empty(3)
     for i in range(3):
-        out[i] = R[0, i] * p[0] + R[1, i] * p[1] + R[2, i] * p[2] + off * p[i]
+        out[i] = R[i] * p[0] + R[3 + i] * p[1] + R[6 + i] * p[2] + off * p[i]
     return out
 
 
@@ -58,8 +57,8 @@ def unit_field(x, c, p):
 def unit_field_H(x, c, p):
     """``∂(eq. 14)/∂x``, ``(3, 7)``, exact: ``∂(R(q)ᵀ m_n)/∂q − 2 m_n qᵀ``."""
     C = np.zeros((3, 7))
-    J = body_vector_jacobian(x[:4], p[:3])
+    entries = body_vector_jacobian(x, p)
     for i in range(3):
         for j in range(4):
-            C[i, j] = J[i, j] - 2.0 * p[i] * x[j]
+            C[i, j] = entries[4 * i + j] - 2.0 * p[i] * x[j]
     return C

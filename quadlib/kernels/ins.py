@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from quadlib.kernels.attitude import attitude_bias_jacobian, turn_into
-from quadlib.kernels.quaternion import dcm
+from quadlib.kernels.quaternion import dcm_entries
 
 __all__: list[str] = []  # bound by the factories of quadlib.nav.ins
 
@@ -23,12 +23,12 @@ __all__: list[str] = []  # bound by the factories of quadlib.nav.ins
 def strapdown_step(x, u, dt, p):
     """``g``: ``q ⊗ exp((ω_m − b_g) Δt)``, ``a = R(q) (f_m − b_a) + g_n``, ``v + a Δt``,
     ``p + v Δt + ½ a Δt²``; ``p = g_n`` (3)."""
-    R = dcm(x[:4])
+    R = dcm_entries(x)  # R[i, j] is R[3 i + j]
     out = x.copy()
     turn_into(out, x, (u[0] - x[10]) * dt, (u[1] - x[11]) * dt, (u[2] - x[12]) * dt)
     f0, f1, f2 = u[3] - x[13], u[4] - x[14], u[5] - x[15]
     for i in range(3):
-        a = R[i, 0] * f0 + R[i, 1] * f1 + R[i, 2] * f2 + p[i]
+        a = R[3 * i] * f0 + R[3 * i + 1] * f1 + R[3 * i + 2] * f2 + p[i]
         out[4 + i] = x[4 + i] + a * dt
         out[7 + i] = x[7 + i] + x[4 + i] * dt + 0.5 * a * dt * dt
     return out
@@ -38,16 +38,19 @@ def strapdown_step(x, u, dt, p):
 def strapdown_error_jacobian(x, u, dt, p):
     """``G`` over the 15 errors: the attitude-and-bias rows of the gyro step, ``∂δv⁺/∂δθ = −Δt R [f]×``,
     ``∂δv⁺/∂δb_a = −Δt R``, the position's half of each times ``Δt``, ``∂δp⁺/∂δv = Δt I``."""
-    A = attitude_bias_jacobian((u[:3] - x[10:13]) * dt, dt)
-    R = dcm(x[:4])
+    phi = np.empty(3)
+    for i in range(3):
+        phi[i] = (u[i] - x[10 + i]) * dt
+    A = attitude_bias_jacobian(phi, dt)
+    R = dcm_entries(x)  # R[i, j] is R[3 i + j]
     f0, f1, f2 = u[3] - x[13], u[4] - x[14], u[5] - x[15]
     F = np.eye(15)
     for i in range(3):
-        r0, r1, r2 = R[i, 0], R[i, 1], R[i, 2]
+        r0, r1, r2 = R[3 * i], R[3 * i + 1], R[3 * i + 2]
         rf = (r1 * f2 - r2 * f1, r2 * f0 - r0 * f2, r0 * f1 - r1 * f0)  # row i of R [f]×
         for j in range(3):
             F[i, j], F[i, 9 + j] = A[i, j], A[i, 3 + j]
-            F[3 + i, j], F[3 + i, 12 + j] = -dt * rf[j], -dt * R[i, j]
+            F[3 + i, j], F[3 + i, 12 + j] = -dt * rf[j], -dt * R[3 * i + j]
             F[6 + i, j], F[6 + i, 12 + j] = 0.5 * dt * F[3 + i, j], 0.5 * dt * F[3 + i, 12 + j]
         F[6 + i, 3 + i] = dt
     return F

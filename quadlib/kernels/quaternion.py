@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["body_vector_jacobian", "conjugate", "dcm", "dcm_entries", "euler_dcm", "exp_rotvec", "from_dcm",
-           "from_euler", "half_body_vector_jacobian", "matrix", "multiply", "normalize", "rate_entries", "rate_matrix",
+           "from_euler", "matrix", "multiply", "normalize", "rate_entries", "rate_matrix",
            "rotvec", "skew", "to_euler"]
 
 
@@ -167,23 +167,14 @@ def rate_matrix(q):
 
 @njit(cache=True)
 def body_vector_jacobian(q, v):
-    """``∂(R(q)ᵀ v)/∂q``, ``(3, 4)`` (:func:`~quadlib.geometry.quaternion.vector_jacobian`). With
-    ``q = [w, r]``, ``R(q)ᵀ v = (w² − r·r) v + 2 (r·v) r − 2 w (r × v)``, so
+    """``∂(R(q)ᵀ v)/∂q``, ``(3, 4)`` (:func:`~quadlib.geometry.quaternion.vector_jacobian`), as its
+    twelve entries row by row in a tuple (entry ``4 i + j``; a kernel writes them where it needs them).
+    With ``q = [w, r]``, ``R(q)ᵀ v = (w² − r·r) v + 2 (r·v) r − 2 w (r × v)``, so
     ``∂/∂w = 2 (w v − r × v)`` and ``∂/∂r = 2 ((r·v) I + r vᵀ − v rᵀ + w [v]×)``."""
-    J = np.empty((3, 4))
-    half = half_body_vector_jacobian(q, v)
-    for i in range(3):
-        for j in range(4):
-            J[i, j] = 2.0 * half[4 * i + j]
-    return J
-
-
-@njit(cache=True)
-def half_body_vector_jacobian(q, v):
-    """Half of :func:`body_vector_jacobian`'s twelve entries, row by row, as a tuple."""
     w, x, y, z = q[0], q[1], q[2], q[3]
     vx, vy, vz = v[0], v[1], v[2]
     rv = x * vx + y * vy + z * vz
-    return (w * vx - (y * vz - z * vy), rv, x * vy - vx * y - w * vz, x * vz - vx * z + w * vy,
-            w * vy - (z * vx - x * vz), y * vx - vy * x + w * vz, rv, y * vz - vy * z - w * vx,
-            w * vz - (x * vy - y * vx), z * vx - vz * x - w * vy, z * vy - vz * y + w * vx, rv)
+    return (2.0 * (w * vx - (y * vz - z * vy)), 2.0 * rv, 2.0 * (x * vy - vx * y - w * vz),
+            2.0 * (x * vz - vx * z + w * vy), 2.0 * (w * vy - (z * vx - x * vz)), 2.0 * (y * vx - vy * x + w * vz),
+            2.0 * rv, 2.0 * (y * vz - vy * z - w * vx), 2.0 * (w * vz - (x * vy - y * vx)),
+            2.0 * (z * vx - vz * x - w * vy), 2.0 * (z * vy - vz * y + w * vx), 2.0 * rv)
