@@ -28,6 +28,7 @@ from quadlib.kernels.quaternion import (
     rate_entries,
     rate_matrix,
     rotvec,
+    skew_entries,
 )
 
 __all__: list[str] = []  # bound by the model factories; see the module docstring
@@ -40,7 +41,7 @@ def attitude_bias_jacobian(phi, dt):
     """``∂δx⁺/∂δx`` over ``[δθ, δb]`` of one gyro step ``φ = (ω − b) Δt``
     (:func:`~quadlib.attitude.bias_model.gyro_error_jacobians`)."""
     theta = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-    K = (0.0, -phi[2], phi[1], phi[2], 0.0, -phi[0], -phi[1], phi[0], 0.0)  # [φ]×, K[i, j] is K[3 i + j]
+    K = skew_entries(phi)  # [φ]×, K[i, j] is K[3 i + j]
     if theta > 1e-6:
         a, b = (1.0 - math.cos(theta)) / theta**2, (theta - math.sin(theta)) / theta**3
     else:

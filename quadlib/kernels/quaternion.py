@@ -18,7 +18,7 @@ from numba import njit
 
 __all__ = ["body_vector_jacobian", "conjugate", "dcm", "dcm_entries", "euler_dcm", "exp_rotvec", "from_dcm",
            "from_euler", "matrix", "multiply", "normalize", "rate_entries", "rate_matrix",
-           "rotvec", "skew", "to_euler"]
+           "rotvec", "skew", "skew_entries", "to_euler"]
 
 
 @njit(cache=True)
@@ -141,9 +141,15 @@ def from_dcm(R):
 
 
 @njit(cache=True)
+def skew_entries(v):
+    """The nine entries of :func:`skew` row by row, as a tuple (``[v]×[i, j]`` is entry ``3 i + j``)."""
+    return (0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0)
+
+
+@njit(cache=True)
 def skew(v):
     """``[v]×``, the matrix of the cross product: ``[v]× w = v × w``."""
-    return matrix(3, 3, (0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0))
+    return matrix(3, 3, skew_entries(v))
 
 
 @njit(cache=True)
