@@ -99,6 +99,7 @@ benchmark: $(STAMP)
 	$(BIN)/python benchmarks/fixedwing_filters.py
 	$(BIN)/python benchmarks/estimator_cost.py
 	$(BIN)/python benchmarks/orientation_cost.py
+	$(BIN)/python benchmarks/orientation_ablation.py
 	$(BIN)/python benchmarks/fixedwing_divergence.py
 	$(BIN)/python benchmarks/faults.py
 	$(BIN)/python benchmarks/broad_orientation.py

@@ -141,7 +141,8 @@ class OrientationParams:
         ``gravity_sigma_m_s2``). The low-pass needs the gyro bias, so it takes a second filter
         pass: None runs one pass and no low-pass, at 0.45 times the cost
         (``benchmarks/orientation_cost.py``), but its mean total error on the ten BROAD trials is
-        6.5° against the defaults' 1.6°.
+        6.5° against the defaults' 1.6° (``benchmarks/orientation_ablation.py``, which switches
+        off each setting in turn).
     mag_settle_s : float or None
         After a field sample fails its checks, the magnetometer is trusted again only once its
         samples have passed them for this long [s] (VQF's 0.5 s, ``magMinUndisturbedTime``): a
