@@ -38,7 +38,7 @@ def main(n: int = 200_001) -> None:
         ("VQF (C++), online", best_us_per_step(lambda: VQF(dt).updateBatch(gyr, acc, mag), n)),
         ("VQF (C++), offline", best_us_per_step(lambda: offlineVQF(gyr, acc, mag, dt, {}), n)),
     ]
-    vqf_online = rows[3][1]
+    vqf_online = dict(rows)["VQF (C++), online"]
     print(f"{n} samples at {rate_hz:.0f} Hz")
     print(f"{'estimator':<40} | {'µs / sample':>11} | {'× VQF online':>12}")
     for name, us in rows:
