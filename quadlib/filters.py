@@ -28,6 +28,7 @@ from filterpy.kalman import (
     KalmanFilter,
     MerweScaledSigmaPoints,
     UnscentedKalmanFilter,
+    unscented_transform,
 )
 from scipy.linalg.lapack import dpotrf
 
@@ -60,20 +61,21 @@ class LinearKF(ModelFilter, KalmanFilter):
 
     def __init__(self, model: Model, x0, P0, dt: float):
         x0 = self._setup(model, x0, P0, dt)
-        if model.is_error_state or model.normalize is not None or model.G is None:
-            raise ValueError(f"model: {model.name!r} needs G and no error state or normalize for LinearKF; "
-                             "use ModelEKF or ModelUKF")
-        if model.dim_u and model.B is None:
-            raise ValueError(f"model: {model.name!r} has inputs but no B(x, u, dt); LinearKF needs it")
+        self._check_model(model)
         KalmanFilter.__init__(self, dim_x=model.dim_x, dim_z=1, dim_u=model.dim_u)
         self.x = x0.reshape(-1, 1)
         self.P = self._P0.copy()
         self._linear_sensors: dict[int, Sensor] = {}  # id -> sensor; holding it keeps the id from being reused
-        self._check_model_linear()
+        self._check_model(model)
+        self._built = True
 
-    def _check_model_linear(self) -> None:
+    def _check_model(self, m: Model) -> None:
+        if m.is_error_state or m.normalize is not None or m.G is None:
+            raise ValueError(f"model: {m.name!r} needs G and no error state or normalize for LinearKF; "
+                             "use ModelEKF or ModelUKF")
+        if m.dim_u and m.B is None:
+            raise ValueError(f"model: {m.name!r} has inputs but no B(x, u, dt); LinearKF needs it")
         rng = np.random.default_rng(0)
-        m = self.model
         for _ in range(2):
             x, u = rng.normal(size=m.dim_x), rng.normal(size=m.dim_u)
             F = np.asarray(m.G(x, u, self.dt), dtype=float)
@@ -104,6 +106,7 @@ class LinearKF(ModelFilter, KalmanFilter):
     def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
         self._check_sensor_linear(sensor)
         H = np.asarray(sensor.H(self.estimate), dtype=float)
+        self._R = sensor.R
         KalmanFilter.update(self, z.reshape(-1, 1), R=sensor.R, H=H)
 
 
@@ -137,20 +140,27 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
 
     def __init__(self, model: Model, x0, P0, dt: float):
         x0 = self._setup(model, x0, P0, dt)
-        if model.G is None:
-            raise ValueError(f"model: {model.name!r} has no Jacobian G; ModelEKF needs one (ModelUKF does not)")
+        self._check_model(model)
         ExtendedKalmanFilter.__init__(self, dim_x=model.dim_P, dim_z=1, dim_u=model.dim_u)
         self.x = x0.reshape(-1, 1)
         self.P = self._P0.copy()
         self._step = None
+        self._built = True
+
+    def _check_model(self, model: Model) -> None:
+        if model.G is None:
+            raise ValueError(f"model: {model.name!r} has no Jacobian G; ModelEKF needs one (ModelUKF does not)")
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
-        # filterpy's predict calls predict_x (below, the nonlinear g), then P = F P Fᵀ + Q
+        # filterpy's predict, written out: predict_x (below, the nonlinear g), then P = F P Fᵀ + Q with
+        # the step's Q (the model's, or one set by hand, plus the input's noise)
         x = self.nominal if self.nominal is not None else self.x[:, 0]
         self.F = np.asarray(self.model.G(x, u, dt), dtype=float)
-        self.Q = self._process_noise(dt, u)
+        Q = self._process_noise(dt, u)
         self._step = (x, u, dt)
-        ExtendedKalmanFilter.predict(self, u)
+        self.predict_x(u)
+        self.P = np.dot(self.F, self.P).dot(self.F.T) + Q
+        self.x_prior, self.P_prior = np.copy(self.x), np.copy(self.P)
 
     def predict_x(self, u=0) -> None:
         """Mean prediction with the model's ``g`` (replaces filterpy's ``F x + B u``); for an
@@ -176,7 +186,7 @@ class ModelEKF(ModelFilter, ExtendedKalmanFilter):
             H_x = np.asarray(H(at), dtype=float)
         z_hat = np.asarray(h(at), dtype=float)
         y = z - z_hat if sensor.residual is np.subtract else np.asarray(sensor.residual(z, z_hat), dtype=float)
-        R = sensor.R
+        R = self._R = sensor.R
         PHT = self.P @ H_x.T
         self.S = H_x @ PHT + R
         self.SI = 1.0 / self.S if self.S.shape == (1, 1) else np.linalg.inv(self.S)  # one division is LAPACK's 1x1
@@ -279,6 +289,7 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         self.P = self._P0.copy()
         self._drawn = (None, None)
         self._fx_refs = (None, None)
+        self._built = True
 
     def _error_fx(self, e, dt, u):
         """Error after one step of a sigma point: ``g(x₀ ⊞ e, u, dt) ⊟ g(x₀, u, dt)``."""
@@ -287,15 +298,18 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
         return m.residual_x(m.g(m.state_add(before, e), u, dt), after)
 
     def _predict(self, u: np.ndarray, dt: float) -> None:
-        # propagate the sigma points through g(x, u, dt), then add Q(dt)
-        self.Q = self._process_noise(dt, u)
+        # propagate the sigma points through g(x, u, dt), then add the step's Q (the model's, or one set by
+        # hand, plus the input's noise)
+        Q = self._process_noise(dt, u)
+        transform = lambda sigmas, Wm, Wc, _, mean, residual: unscented_transform(  # noqa: E731
+            sigmas, Wm, Wc, Q, mean, residual)
         if self.nominal is not None:
             after = np.asarray(self.model.g(self.nominal, u, dt), dtype=float)
             self._fx_refs = (self.nominal, after)
-            UnscentedKalmanFilter.predict(self, dt=dt, u=u)
+            UnscentedKalmanFilter.predict(self, dt=dt, UT=transform, u=u)
             self.nominal = after
         else:
-            UnscentedKalmanFilter.predict(self, dt=dt, u=u)
+            UnscentedKalmanFilter.predict(self, dt=dt, UT=transform, u=u)
         self._drawn = (self.x.copy(), self.P.copy())  # filterpy ends predict by redrawing them here
 
     def _update(self, sensor: Sensor, z: np.ndarray, context) -> None:
@@ -310,6 +324,7 @@ class ModelUKF(ModelFilter, UnscentedKalmanFilter):
             hx = h
         self.residual_z = sensor.residual
         self.z_mean = sensor.mean
+        self._R = sensor.R
         UnscentedKalmanFilter.update(self, z, R=sensor.R, hx=hx)
         self.P = positive_definite(self.P)
         self._drawn = (None, None)

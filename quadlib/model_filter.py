@@ -88,7 +88,8 @@ class ModelFilter:
         """Check the arguments; return the initial filterpy ``x`` (the error state is zero)."""
         if not isinstance(model, Model):
             raise TypeError(f"model: expected a quadlib Model, got {type(model).__name__}")
-        self.model = model
+        self._built = False  # filterpy's constructor, which runs next, sets its own Q and R: not the user's
+        self._model = model
         self.dt = as_positive("dt", dt)
         x0 = as_vector("x0", x0, model.dim_x)
         if model.normalize is not None:
@@ -96,9 +97,68 @@ class ModelFilter:
         self._P0 = as_covariance("P0", P0, model.dim_P, definite=True)
         self._q_dt = self.dt
         self._q = as_covariance(f"{model.name}.Q(dt={self.dt:g})", model.Q(self.dt), model.dim_P)  # checked once
+        self.fixed_Q = False
+        self._R = None
         self.nominal = x0 if model.is_error_state else None
         self._settles = model.is_error_state or model.normalize is not None  # else a step ends as filterpy left it
         return np.zeros(model.dim_P) if model.is_error_state else x0
+
+    # filterpy's attributes are the filter's truth: an assignment takes effect at the next step, or is refused
+
+    @property
+    def model(self) -> Model:
+        """The filter's model. Assigning another (``dataclasses.replace(f.model, Q=…)``) takes effect
+        at the next step: its ``Q(dt)`` is computed afresh, and a ``Q`` set by hand is dropped."""
+        return self._model
+
+    @model.setter
+    def model(self, model: Model) -> None:
+        old = self._model
+        if not isinstance(model, Model):
+            raise TypeError(f"model: expected a quadlib Model, got {type(model).__name__}")
+        if (model.dim_x, model.dim_P, model.dim_u, model.is_error_state) != (
+                old.dim_x, old.dim_P, old.dim_u, old.is_error_state):
+            raise ValueError(f"model: expected a model of the filter's shape ({old.dim_x} states, {old.dim_P} in P, "
+                             f"{old.dim_u} inputs, error state {old.is_error_state}), got {model.name!r} with "
+                             f"({model.dim_x}, {model.dim_P}, {model.dim_u}, {model.is_error_state})")
+        self._check_model(model)
+        self._model, self._settles = model, model.is_error_state or model.normalize is not None
+        self._q_dt, self.fixed_Q = -np.inf, False  # the next step computes Q(dt) from the new model
+
+    def _check_model(self, model: Model) -> None:
+        """What a filter class needs of a model besides its shape (LinearKF: linear)."""
+
+    @property
+    def Q(self) -> np.ndarray:
+        """The process noise of the last step, ``Q(Δt)`` (the input's noise not included). Assigning
+        it, as with filterpy, fixes ``Q`` for every later step whatever its ``Δt``; assigning ``model``
+        returns to the model's ``Q(Δt)``."""
+        return self._q
+
+    @Q.setter
+    def Q(self, Q) -> None:
+        if not self._built:  # filterpy's constructor's default, np.eye: the model's Q(dt) stands
+            return
+        self._q, self.fixed_Q = as_covariance("Q", Q, self.model.dim_P), True
+
+    @property
+    def R(self) -> np.ndarray:
+        """The measurement noise of the last update: its sensor's ``R``."""
+        return self._R
+
+    @R.setter
+    def R(self, R) -> None:
+        if self._built:
+            raise AttributeError(
+                "R: a quadlib filter takes each sample's noise from its sensor, so R cannot be set on the filter; "
+                "give the sensor the R you want (dataclasses.replace(sensor, R=...))")
+        self._R = R
+
+    def fold_error(self) -> None:
+        """Fold an error state set by hand (``f.x = δx`` on an error-state model) into the nominal state
+        before the next step, as a step's end does."""
+        if self.nominal is not None and self.x.any():
+            self._settle()
 
     @property
     def estimate(self) -> np.ndarray:
@@ -114,7 +174,7 @@ class ModelFilter:
         # jitters (a PX4 log has thousands of distinct steps), so a new dt's Q gets the cheap
         # checks — shape, finite, symmetric, no negative variance — and the full one (eigenvalues)
         # only if one of them fails, to name the fault; Q(self.dt) had the full check at the start.
-        if abs(dt - self._q_dt) > 1e-9 * dt:
+        if not self.fixed_Q and abs(dt - self._q_dt) > 1e-9 * dt:
             q = self.model.Q(dt)
             if not (isinstance(q, np.ndarray) and q.shape == self._q.shape and np.isfinite(q).all()
                     and np.array_equal(q, q.T) and (np.diagonal(q) >= 0.0).all()):
@@ -206,6 +266,7 @@ class ModelFilter:
 
     def predict_unchecked(self, u: np.ndarray, dt: float) -> None:
         """:meth:`predict` without argument checks, for loops that validated their whole log first."""
+        self.fold_error()
         self._predict(u, dt)
         if self._settles:
             self._settle()
@@ -244,6 +305,7 @@ class ModelFilter:
                          context: np.ndarray | None = None, force: tuple[int, ...] = ()) -> Innovation:
         """:meth:`update_sensor` without argument checks. ``gates`` holds the NIS threshold of each
         of ``sensor.groups`` (:func:`group_gates`); groups listed in ``force`` pass whatever their NIS."""
+        self.fold_error()
         if gates is not None:
             saved = (self.x.copy(), self.P.copy(), None if self.nominal is None else self.nominal.copy())
             self._before_update = saved

@@ -72,33 +72,6 @@ def sample_steps(t: np.ndarray, grid_resolution: float, m: Measurements) -> tupl
     return np.searchsorted(t, m.t - tol, side="left"), m.missing & ~duplicate, duplicate
 
 
-def _event_order(per_sensor: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The updates ``(step, sensor, sample)`` as three arrays in the order :func:`run_filter` applies
-    them (by step, then sensor, then sample; present samples only), from each sensor's
-    :func:`sample_steps`."""
-    parts = [(steps[keep], np.full(keep.sum(), i), np.flatnonzero(keep))
-             for i, (steps, missing, duplicate) in enumerate(per_sensor) for keep in [~missing & ~duplicate]]
-    if not parts:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64)
-    steps, sensors, samples = (np.concatenate(a).astype(np.int64) for a in zip(*parts, strict=True))
-    order = np.lexsort((samples, sensors, steps))
-    return steps[order], sensors[order], samples[order]
-
-
-def compiled_schedule(filt, t, grid_resolution: float, measurements: list) -> tuple | None:
-    """:func:`run_filter`'s schedule for a compiled twin of its loop: per sensor ``(steps, missing,
-    duplicate)`` (:func:`sample_steps`), and the events ``(step, sensor, sample)`` as three arrays in
-    the order ``run_filter`` applies them (by step, then sensor, then sample; present samples only).
-    None if a sample lies outside ``t`` (``run_filter`` then names it)."""
-    for i, m in enumerate(measurements):  # what run_filter checks before its loop
-        filt.check_sensor(m.sensor, f"measurements[{i}].sensor")
-        tol = max(grid_resolution, m.time_resolution_s)
-        if m.t.size and (m.t[0] < t[0] - tol or m.t[-1] > t[-1] + tol):
-            return None
-    per_sensor = [sample_steps(t, grid_resolution, m) for m in measurements]
-    return per_sensor, _event_order(per_sensor)
-
-
 ENGINES = ("auto", "compiled", "readable")
 
 
@@ -166,23 +139,26 @@ def run_filter(filt, t, u, measurements, gate_probability: float | None = None, 
         raise ValueError(f"measurements: expected one entry per sensor name, got {names}")
     per_sensor = [sample_steps(t, grid_resolution, m) for m in measurements]
 
-    note, records = "", None
+    note, planned = "", None
     if engine != "readable":
-        records = runner.plan(filt, measurements, gate_probability)
-        if isinstance(records, str):
+        planned = runner.plan(filt, measurements, gate_probability)
+        if isinstance(planned, str):
             if engine == "compiled":
-                raise ValueError(f"engine: expected a filter the compiled engine can run, got one it cannot: {records}")
-            note, records = records, None
-    compiled = records is not None and runner.forward(filt, records, t, u, measurements, per_sensor)
+                raise ValueError(f"engine: expected a filter the compiled engine can run, got one it cannot: {planned}")
+            note, planned = planned, None
+    compiled = runner.forward(filt, planned, t, u, measurements, per_sensor) if planned else None
+    if isinstance(compiled, str):
+        if engine == "compiled" and compiled.startswith("numba"):
+            raise ValueError(f"engine: expected a filter the compiled engine can run, got one it cannot: {compiled}")
+        note, compiled = compiled, None
+    if note:
+        runner.warn_once(model, note)
     if compiled:
         xs, Ps, traces = compiled
         sensors = {m.sensor.name: SensorTrace(t=m.t, missing=miss, duplicate=dup, **tr)
                    for m, tr, (_, miss, dup) in zip(measurements, traces, per_sensor, strict=True)}
         run = FilterRun(t=t, x=xs, P=Ps, sensors=sensors, held_input=held, engine="compiled")
     else:
-        if records is not None:
-            note = ("the compiled run raised or became non-finite, so the readable loop ran "
-                    "(and names the step where it fails)")
         run = replace(_run_readable(filt, t, u, held, measurements, per_sensor, gate_probability, grid_resolution),
                       t=t, engine_note=note)
     xs, Ps = run.x, run.P
@@ -283,13 +259,12 @@ def rts_smooth(model: Model, run: FilterRun, u, engine: str = "auto") -> FilterR
 
 def _rts_compiled(model: Model, run: FilterRun, u: np.ndarray, engine: str) -> FilterRun | str:
     """:func:`rts_smooth`'s pass on the compiled engine, or why it cannot run there."""
-    records = runner.model_arrays(model)
-    if isinstance(records, str):
-        if engine == "compiled":
-            raise ValueError(f"engine: expected a model the compiled engine can run, got one it cannot: {records}")
-        return records
-    smoothed = runner.backward(records, run.t, u, run.x, run.P)
-    if smoothed is None:
-        return "the compiled backward pass raised, so the readable one ran"
+    loop = runner.smoother(model)
+    smoothed = loop if isinstance(loop, str) else runner.backward(loop, run.t, u, run.x, run.P)
+    if isinstance(smoothed, str):
+        if engine == "compiled" and (loop is smoothed or smoothed.startswith("numba")):
+            raise ValueError(f"engine: expected a model the compiled engine can run, got one it cannot: {smoothed}")
+        runner.warn_once(model, smoothed)
+        return smoothed
     return FilterRun(t=run.t, x=smoothed[0], P=smoothed[1], sensors=run.sensors, held_input=run.held_input,
                      engine=run.engine, engine_note=run.engine_note, layout=run.layout)

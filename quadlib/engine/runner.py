@@ -1,41 +1,55 @@
-"""Between :func:`~quadlib.replay.run_filter` and the compiled loops: which filters the engine can
-run, and their arrays.
+"""Between :func:`~quadlib.replay.run_filter` and a filter's compiled loop: its kernels and records.
 
-:func:`plan` looks at a filter and its sensors: a :class:`~quadlib.ModelEKF` whose model and
-sensors hold only :class:`~quadlib.engine.kernel.Kernel` functions the engine knows
-(:data:`~quadlib.engine.dispatch.TABLES`) is packed into the engine's records; anything else — a
-function written in plain Python, a model changed with ``dataclasses.replace`` to one, another
-kind of filter — gets the reason it must run on the readable loop, which ``run_filter`` records in
-the run. :func:`forward` and :func:`backward` call the loops of :mod:`quadlib.engine.ekf`.
+:func:`plan` looks at a filter and its sensors: a :class:`~quadlib.ModelEKF` or
+:class:`~quadlib.ModelUKF` whose model and sensors hold :class:`~quadlib.engine.kernel.Kernel`
+functions — quadlib's or anyone's, as long as numba compiled them — gets its loop from
+:mod:`quadlib.engine.build` and its records; anything else (a function written in plain Python, a
+sigma-point object of the user's own, another kind of filter) gets the reason it runs on the
+readable loop, which ``run_filter`` records in the run. :func:`forward` and :func:`backward` call
+the loops.
 """
 
 from __future__ import annotations
 
+import warnings
+from typing import NamedTuple
+
 import numpy as np
 from filterpy.kalman import MerweScaledSigmaPoints
 
-from quadlib.engine.dispatch import kind_of
-from quadlib.engine.ekf import ModelArrays, Samples, SensorArrays, SigmaArrays, rts_pass
+from quadlib.engine.build import Compiled, CompileError, filter_loops, is_compiled, smoother_loops
 from quadlib.engine.kernel import MODEL_ROLES, Kernel
-from quadlib.engine.loop import filter_pass
+from quadlib.engine.records import Samples, SensorArrays, SigmaArrays
 from quadlib.filters import ModelEKF, ModelUKF, sigma_point_sqrt
+from quadlib.kernels.attitude import identity_jacobian
 from quadlib.model import Model
 from quadlib.model_filter import agreement_test, group_gates
 
-__all__ = ["backward", "forward", "model_arrays", "plan"]
+__all__ = ["Plan", "backward", "forward", "plan", "smoother"]
 
 _REQUIRED = ("g", "G", "Q")
 _UNUSED_BY_UKF = ("G", "add_jacobian")
 
 
-def _kernel(owner: str, role: str, f) -> tuple[int, np.ndarray] | str:
-    """``f``'s number and parameters, or why the engine cannot call it."""
+class Plan(NamedTuple):
+    """A filter's compiled loop and what it reads: the model's parameters ``(9, m)``, the sensors'
+    and a UKF's sigma points (None for an EKF)."""
+
+    loop: Compiled
+    model_params: np.ndarray
+    sensors: SensorArrays
+    sigma: SigmaArrays | None
+
+
+def _kernel(owner: str, role: str, f):
+    """``f``'s numba function, or why the engine cannot call it."""
     if not isinstance(f, Kernel):
         return f"{owner}'s {role} is plain Python ({getattr(f, '__name__', type(f).__name__)})"
-    kind = kind_of(f)
-    if kind < 0 or f.role != role:
-        return f"{owner}'s {role} is {f!r}, which the engine does not know"
-    return kind, f.params
+    if f.role != role:
+        return f"{owner}'s {role} is a Kernel for {f.role!r}"
+    if not is_compiled(f.function):
+        return f"{owner}'s {role} is a Kernel of {f.function!r}, which numba did not compile (use @njit)"
+    return f.function
 
 
 def _padded(rows: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
@@ -46,26 +60,27 @@ def _padded(rows: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
-def model_arrays(model: Model, unscented: bool = False) -> ModelArrays | str:
-    """The engine's record of ``model`` (for a UKF when ``unscented``: without ``G``), or why it has none."""
+def _model_kernels(model: Model, unscented: bool) -> tuple[dict, np.ndarray] | str:
+    """``model``'s kernels (role → numba function or None) and their parameters, or why it has none."""
     if not isinstance(model, Model):
         return f"the model is a {type(model).__name__}"
-    kinds, params = np.full(len(MODEL_ROLES), -1, np.int64), []
-    for r, role in enumerate(MODEL_ROLES):
+    kernels, params = {}, []
+    for role in MODEL_ROLES:
         f = getattr(model, role)
+        kernels[role] = None
+        params.append(np.zeros(0))
         if (f is None and role not in _REQUIRED) or (unscented and role in _UNUSED_BY_UKF):
-            params.append(np.zeros(0))
             continue
         found = _kernel(f"model {model.name!r}", role, f)
         if isinstance(found, str):
             return found
-        kinds[r] = found[0]
-        params.append(found[1])
-    return ModelArrays(kinds, _padded(params, (len(MODEL_ROLES),)), model.is_error_state)
+        kernels[role], params[-1] = found, f.params
+    kernels["G_identity"] = kernels["G"] is identity_jacobian  # I P Iᵀ is P: its product skipped
+    return kernels, _padded(params, (len(MODEL_ROLES),))
 
 
-def _sigma_arrays(filt: ModelUKF) -> SigmaArrays | str:
-    """The engine's record of ``filt``'s sigma points, or why it has none."""
+def _sigma(filt: ModelUKF) -> tuple[dict, SigmaArrays] | str:
+    """A UKF's sigma-point kernels and record, or why the engine cannot draw its points."""
     points = filt.points_fn
     if type(points) is not MerweScaledSigmaPoints or points.sqrt is not sigma_point_sqrt:
         return f"the UKF's sigma points are {type(points).__name__} of its own; the engine draws ModelUKF's default"
@@ -73,49 +88,90 @@ def _sigma_arrays(filt: ModelUKF) -> SigmaArrays | str:
         return "the UKF's state_add is its own; the engine adds a correction"
     if points.subtract is not filt.residual_x:
         return "the UKF's sigma points subtract with another function than its residual_x"
-    kinds, params = np.full(2, -1, np.int64), []
-    for r, (role, f) in enumerate((("residual_x", filt.residual_x), ("mean", filt.x_mean))):
+    kernels, params = {}, []
+    for role, f in (("residual_x", filt.residual_x), ("mean", filt.x_mean)):
+        kernels[role] = None
+        params.append(np.zeros(0))
         if f is np.subtract or f is None:
-            params.append(np.zeros(0))
             continue
         found = _kernel("the UKF", role, f)
         if isinstance(found, str):
             return found
-        kinds[r] = found[0]
-        params.append(found[1])
+        kernels[role], params[-1] = found, f.params
     lam = points.alpha**2 * (points.n + points.kappa) - points.n
-    return SigmaArrays(np.array(filt.Wm, np.float64), np.array(filt.Wc, np.float64), float(lam + points.n), kinds,
-                       _padded(params, (2,)))
+    return kernels, SigmaArrays(np.array(filt.Wm, np.float64), np.array(filt.Wc, np.float64), float(lam + points.n),
+                                _padded(params, (2,)))
 
 
-def plan(filt, measurements: list, gate_probability: float | None) -> tuple[ModelArrays, SensorArrays,
-                                                                              SigmaArrays | None] | str:
-    """The engine's records of ``filt`` (advanced from its current state), the sensors of
-    ``measurements``, gated at ``gate_probability``, and a UKF's sigma points; or why it must run on
-    the readable loop."""
-    if type(filt) not in (ModelEKF, ModelUKF):
-        return f"the filter is a {type(filt).__name__}; the engine runs ModelEKF and ModelUKF"
-    unscented = type(filt) is ModelUKF
-    sigma = _sigma_arrays(filt) if unscented else None
-    if isinstance(sigma, str):
-        return sigma
-    model = model_arrays(filt.model, unscented)
-    if isinstance(model, str):
-        return model
-    sensors = [m.sensor for m in measurements]
-    kinds, params = np.full((len(sensors), 4), -1, np.int64), []
-    for i, s in enumerate(sensors):
-        for r, role in enumerate(("h", "H", "residual", "mean")):
+def _sensor_kernels(sensors: list, unscented: bool) -> tuple[list[dict], np.ndarray] | str:
+    """Each sensor's kernels (role → numba function or None) and their parameters ``(S, 4, m)``."""
+    kernels, params = [], []
+    for s in sensors:
+        kernels.append({})
+        for role in ("h", "H", "residual", "mean"):
             f = getattr(s, role)
+            kernels[-1][role] = None
+            params.append(np.zeros(0))
             if (role == "residual" and f is np.subtract) or (role == "mean" and (f is None or not unscented)) or (
                     role == "H" and unscented):
-                params.append(np.zeros(0))
                 continue
             found = _kernel(f"sensor {s.name!r}", role, f)
             if isinstance(found, str):
                 return found
-            kinds[i, r] = found[0]
-            params.append(found[1])
+            kernels[-1][role], params[-1] = found, f.params
+    return kernels, _padded(params, (len(sensors), 4))
+
+
+def _label(filt, kind: str) -> str:
+    return f"{filt.model.name} {kind}"
+
+
+_LOOPS: dict[tuple, Compiled] = {}  # one build per filter's kernels and flags in a process
+_WARNED: set[str] = set()
+
+
+def _loop(build, key: tuple, *args) -> Compiled | str:
+    """The compiled loop of ``key`` (built once), or why numba could not compile it."""
+    if key not in _LOOPS:
+        try:
+            _LOOPS[key] = build(*args)
+        except CompileError as err:
+            return str(err)
+    return _LOOPS[key]
+
+
+def _frozen(kernels: dict) -> tuple:
+    return tuple(sorted(kernels.items()))
+
+
+def plan(filt, measurements: list, gate_probability: float | None) -> Plan | str:
+    """The loop and records of ``filt`` (advanced from its current state), the sensors of
+    ``measurements``, gated at ``gate_probability``; or why it must run on the readable loop."""
+    if type(filt) not in (ModelEKF, ModelUKF):
+        return f"the filter is a {type(filt).__name__}; the engine runs ModelEKF and ModelUKF"
+    unscented = type(filt) is ModelUKF
+    kind = "UKF" if unscented else "EKF"
+    sigma_kernels, sigma = {}, None
+    if unscented:
+        found = _sigma(filt)
+        if isinstance(found, str):
+            return found
+        sigma_kernels, sigma = found
+    found = _model_kernels(filt.model, unscented)
+    if isinstance(found, str):
+        return found
+    model_kernels, model_params = found
+    sensors = [m.sensor for m in measurements]
+    found = _sensor_kernels(sensors, unscented)
+    if isinstance(found, str):
+        return found
+    sensor_kernels, sensor_params = found
+    key = (kind, filt.model.is_error_state, _frozen(model_kernels), tuple(map(_frozen, sensor_kernels)),
+           _frozen(sigma_kernels))
+    loop = _loop(filter_loops, key, _label(filt, kind), kind, model_kernels, filt.model.is_error_state,
+                 sensor_kernels, sigma_kernels)
+    if isinstance(loop, str):
+        return loop
     n, k, g = len(sensors), max([1] + [s.dim_z for s in sensors]), max([1] + [len(s.groups) for s in sensors])
     R, group, gates = np.zeros((n, k, k)), np.zeros((n, k), np.int64), np.zeros((n, g))
     corrected = np.ones((n, filt.model.dim_P), np.bool_)
@@ -129,12 +185,35 @@ def plan(filt, measurements: list, gate_probability: float | None) -> tuple[Mode
             if s.reset_needs_agreement:
                 whiten[i, :s.dim_z, :s.dim_z], agree_z[i] = agreement_test(s, gate_probability)
         corrected[i, list(s.uncorrected)] = False
-    return model, SensorArrays(
-        kinds=kinds, params=_padded(params, (n, 4)), dim_z=np.array([s.dim_z for s in sensors], np.int64),
+    return Plan(loop, model_params, SensorArrays(
+        params=sensor_params, dim_z=np.array([s.dim_z for s in sensors], np.int64),
         dim_c=np.array([s.dim_c for s in sensors], np.int64), R=R, group=group,
         n_groups=np.array([len(s.groups) for s in sensors], np.int64), gates=gates,
         reset_after_s=np.array([s.reset_after_s or 0.0 for s in sensors]), corrected=corrected, whiten=whiten,
-        agree_z=agree_z), sigma
+        agree_z=agree_z), sigma)
+
+
+def smoother(model: Model) -> tuple[Compiled, np.ndarray] | str:
+    """The compiled RTS backward pass of ``model`` and its parameters, or why it has none."""
+    found = _model_kernels(model, False)
+    if isinstance(found, str):
+        return found
+    kernels, params = found
+    loop = _loop(smoother_loops, ("RTS", model.is_error_state, _frozen(kernels)), f"{model.name} smoother", kernels,
+                 model.is_error_state)
+    return loop if isinstance(loop, str) else (loop, params)
+
+
+def warn_once(model: Model, reason: str) -> None:
+    """Say once per model and reason that a filter whose kernels numba could not compile runs on
+    the readable loop (a model of plain Python functions runs there without a word: that is its choice)."""
+    if not reason.startswith("numba could not compile"):
+        return
+    key = f"{model.name}: {reason}"
+    if key not in _WARNED:
+        _WARNED.add(key)
+        warnings.warn(f"model {model.name!r} runs on the readable loop: {reason}", RuntimeWarning,
+                      stacklevel=3)
 
 
 def _samples(measurements: list, per_sensor: list, k: int) -> Samples:
@@ -153,26 +232,28 @@ def _samples(measurements: list, per_sensor: list, k: int) -> Samples:
     return Samples(t, z, c, use, step, np.array([a.size for a in applied], np.int64))
 
 
-def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays, SigmaArrays | None], t: np.ndarray,
-            u: np.ndarray,
-            measurements: list, per_sensor: list) -> tuple | None:
+def forward(filt: ModelEKF | ModelUKF, planned: Plan, t: np.ndarray, u: np.ndarray, measurements: list,
+            per_sensor: list) -> tuple | str:
     """The forward pass from ``filt``'s state over times ``t`` with held inputs ``u``, each sensor's
     samples scheduled by :func:`~quadlib.replay.sample_steps` (``per_sensor``). Returns ``x``, ``P``
     and each sensor's trace (innovation, ``S``, NIS, used, rejected, reset), and advances ``filt``
-    to the end; None if the pass raised or became non-finite (``filt`` unchanged: the readable loop
-    then runs and says where)."""
-    model, sensors, sigma = records
+    to the end; or why it did not (numba could not compile the loop, or the pass raised or became
+    non-finite: ``filt`` is unchanged and the readable loop then runs and says where)."""
+    filt.fold_error()
     q_dt, Q = filt.reused_noise
     try:
         with np.errstate(all="ignore"):
-            xs, Ps, q_dt, Q, *traces = filter_pass(
+            xs, Ps, q_dt, Q, *traces = planned.loop(
                 np.require(t, np.float64, "CW"), np.require(u, np.float64, "CW"),
                 np.array(filt.state_view(), np.float64), np.array(filt.P, np.float64), float(q_dt),
-                np.array(Q, np.float64), model, sensors, _samples(measurements, per_sensor, sensors.R.shape[1]), sigma)
+                np.array(Q, np.float64), filt.fixed_Q, planned.model_params, planned.sensors,
+                _samples(measurements, per_sensor, planned.sensors.R.shape[1]), planned.sigma)
+    except CompileError as err:
+        return str(err)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
-        return None
+        return "the compiled run raised, so the readable loop ran (and names the step where it fails)"
     if not (np.isfinite(xs).all() and np.isfinite(Ps).all()):
-        return None
+        return "the compiled run became non-finite, so the readable loop ran (and names the step where it fails)"
     filt.continue_from(xs[-1], Ps[-1], (q_dt, Q))
     ys, Ss, nis, used, rejected, reset = traces
     out = []
@@ -183,12 +264,17 @@ def forward(filt: ModelEKF | ModelUKF, records: tuple[ModelArrays, SensorArrays,
     return xs, Ps, out
 
 
-def backward(records: ModelArrays, t: np.ndarray, u: np.ndarray, xs: np.ndarray, Ps: np.ndarray) -> tuple | None:
+def backward(loop: tuple[Compiled, np.ndarray], t: np.ndarray, u: np.ndarray, xs: np.ndarray,
+             Ps: np.ndarray) -> tuple | str:
     """The RTS backward pass of :func:`~quadlib.replay.rts_smooth` on the engine: ``(x, P)``
-    smoothed, or None if it raised (the readable pass then runs)."""
+    smoothed, or why not (the readable pass then runs)."""
+    compiled, params = loop
     try:
         with np.errstate(all="ignore"):
-            return rts_pass(np.require(t, np.float64, "CW"), np.require(u, np.float64, "CW"),
-                            np.require(xs, np.float64, "CW"), np.require(Ps, np.float64, "CW"), records)
+            return compiled(np.require(t, np.float64, "CW"), np.require(u, np.float64, "CW"),
+                            np.require(xs, np.float64, "CW"), np.require(Ps, np.float64, "CW"), params)
+    except CompileError as err:
+        return str(err)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
-        return None
+        return "the compiled backward pass raised, so the readable one ran"
+
