@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from quadlib.kernels.linalg import add_refused, scatter_agrees
+from quadlib.engine.numerics import lockout_cleared, lockout_expired
 from quadlib.model import Sensor
 from quadlib.model_filter import ModelFilter, agreement_test, group_gates
 from quadlib.runs import FilterDivergedError, FilterRun, SensorTrace, first_steps
@@ -54,26 +54,34 @@ class _Log:
 
     def __init__(self, sensor: Sensor, tol: float, gates, agreement):
         self.sensor, self.tol, self.gates = sensor, tol, gates
-        self.locked_since = [None] * len(sensor.groups)  # per group: since when the gate rejects it
+        n = len(sensor.groups)
+        self.locked_since = np.full(n, np.nan)  # per group: since when the gate rejects it (NaN: it does not)
         self.agreement = agreement  # (W, z) of agreement_test, when a reset needs the refused readings to agree
-        self.refused = np.zeros((len(sensor.groups), sensor.dim_z + 2))  # per group: its lock-out's (add_refused)
+        self.refused = np.zeros((n, sensor.dim_z + 2))  # per group: its lock-out's (add_refused)
+        self.rejected, self.expired = np.zeros(n, np.bool_), np.zeros(n, np.bool_)
         self.row_group = np.empty(sensor.dim_z, np.int64)
         for g, rows in enumerate(sensor.groups):
             self.row_group[list(rows)] = g
         self.last_t, self.last_z, self.equal_run = None, None, 0  # the duplicate and stuck rules
         self.rows = []  # per sample: (t, z, context, innovation or None, missing, duplicate)
 
-    def note_refused(self, inn) -> None:
-        """Add the groups the gate refused in ``inn`` to their lock-outs' whitened readings."""
-        rejected = np.zeros(len(self.sensor.groups), np.bool_)
-        rejected[list(inn.rejected_groups)] = True
-        add_refused(self.refused, self.agreement[0] @ inn.y, self.row_group, rejected)
+    def lockout(self, t_j: float, inn) -> tuple[int, ...]:
+        """The groups of ``inn`` the gate refused whose lock-out has lasted the sensor's
+        ``reset_after_s`` by ``t_j`` (and whose refused readings agree, when that is asked): the
+        engine's bookkeeping, :func:`~quadlib.engine.numerics.lockout_expired`."""
+        self.rejected[:] = False
+        self.rejected[list(inn.rejected_groups)] = True
+        W, z = self.agreement if self.agreement is not None else (None, np.nan)
+        whitened = W @ inn.y if W is not None else np.zeros(self.sensor.dim_z)
+        lockout_expired(self.rejected, self.locked_since, self.refused, t_j, float(self.sensor.reset_after_s), z,
+                        whitened, self.row_group, self.expired)
+        return tuple(np.flatnonzero(self.expired).tolist())
 
-    def agreed(self, g: int) -> bool:
-        """The readings group ``g``'s lock-out refused agree with one another (True when not asked)."""
-        if self.agreement is None:
-            return True
-        return bool(scatter_agrees(self.refused[g], float(len(self.sensor.groups[g])), self.agreement[1]))
+    def lockout_ends(self, inn) -> None:
+        """End the lock-out of every group ``inn`` did not reject (:func:`~quadlib.engine.numerics.lockout_cleared`)."""
+        self.rejected[:] = False
+        self.rejected[list(inn.rejected_groups)] = True
+        lockout_cleared(self.rejected, self.locked_since, self.refused)
 
     def screen(self, t_j: float, z: np.ndarray, c) -> tuple[bool, bool]:
         """``(missing, duplicate)`` of the next sample, in the order the sensor took them."""
@@ -269,25 +277,17 @@ class FilterStepper:
         if missing or duplicate:
             log.rows.append((t_j, z, c, None, missing, duplicate))
             return
-        filt, sensor, gates, since = self.filt, log.sensor, log.gates, log.locked_since
+        filt, sensor, gates = self.filt, log.sensor, log.gates
         inn = filt.update_unchecked(sensor, z, gates, c)
         if inn.rejected_groups and sensor.reset_after_s is not None:
-            if log.agreement is not None:
-                log.note_refused(inn)
-            expired = tuple(g for g in inn.rejected_groups
-                            if since[g] is not None and t_j - since[g] >= sensor.reset_after_s and log.agreed(g))
-            for g in inn.rejected_groups:
-                since[g] = t_j if since[g] is None else since[g]
+            expired = log.lockout(t_j, inn)
             if expired:  # undo the partial update, widen P along the locked-out groups, use them
                 filt.undo_last_update()
                 filt.inflate_toward(sensor, z, expired, c)
                 inn = filt.update_unchecked(sensor, z, gates, c, force=expired)._replace(reset=True)
-                for g in expired:
-                    since[g], log.refused[g] = None, 0.0
+                log.locked_since[list(expired)], log.refused[list(expired)] = np.nan, 0.0
         if gates is not None:
-            for g in range(len(sensor.groups)):
-                if g not in inn.rejected_groups:
-                    since[g], log.refused[g] = None, 0.0
+            log.lockout_ends(inn)
         log.rows.append((t_j, z, c, inn, False, False))
 
     # results -----------------------------------------------------------------------------

@@ -23,7 +23,6 @@ import importlib.util
 import inspect
 import os
 import sys
-import time
 from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
@@ -34,6 +33,7 @@ import numpy as np
 from quadlib.engine.defaults import DEFAULTS, sigma_difference, sigma_mean
 from quadlib.engine.kernel import MODEL_ROLES
 from quadlib.numba_cache import module_digest
+from quadlib.progress import progress_enabled
 
 __all__ = ["CompileError", "Compiled", "cache_dir", "filter_loops", "is_compiled", "smoother_loops"]
 
@@ -45,9 +45,10 @@ ABOUT_S = {"EKF": 10, "UKF": 15, "RTS": 5}
 """About how long [s] numba takes to compile one filter's loop on a 2-core machine (the notice says it)."""
 
 
-OPT_LEVEL = 1
-"""LLVM's optimisation level for a filter's loop: -O1 compiles in about half the time of numba's
-default -O3, and the loop runs as fast (``benchmarks/engine_compile.py`` measures both)."""
+OPT_LEVEL = int(os.environ.get("QUADLIB_ENGINE_OPT", "1"))
+"""LLVM's optimisation level for a filter's loop (``QUADLIB_ENGINE_OPT``, 1 unless set): -O1 compiles
+in about half the time of numba's default -O3, and the loop runs as fast
+(``benchmarks/engine_compile.py`` measures both)."""
 
 
 @contextmanager
@@ -202,16 +203,19 @@ def _cached_on_disk(f) -> bool:
 
 class Compiled:
     """A filter's compiled entry point: calling it compiles on the first call (saying so once, on
-    stderr, when numba has nothing on disk yet) and turns a failed compile into :class:`CompileError`."""
+    stderr, when numba has nothing on disk yet, unless progress is switched off as in the tests and
+    the book, :mod:`quadlib.progress`) and turns a failed compile into :class:`CompileError`."""
 
     def __init__(self, label: str, kind: str, function, fresh: bool):
         self.label, self.kind, self.function, self.fresh = label, kind, function, fresh
+        self.failed = ""  # why numba could not compile it: tried once a process
 
     def __call__(self, *args):
-        if self.fresh and not self.function.signatures:
+        if self.failed:
+            raise CompileError(self.failed)
+        if self.fresh and not self.function.signatures and progress_enabled():
             print(f"quadlib: compiling the {self.label}, once (about {ABOUT_S[self.kind]} s)", file=sys.stderr,
                   flush=True)
-        start = time.perf_counter()
         try:
             if self.function.signatures:
                 out = self.function(*args)
@@ -219,8 +223,9 @@ class Compiled:
                 with _optimized_at(OPT_LEVEL):
                     out = self.function(*args)
         except (numba.core.errors.NumbaError, NotImplementedError) as err:
-            raise CompileError(f"numba could not compile the {self.label}: {_reason(err)}") from err
-        self.fresh, self.seconds = False, time.perf_counter() - start
+            self.failed = f"numba could not compile the {self.label}: {_reason(err)}"
+            raise CompileError(self.failed) from err
+        self.fresh = False
         return out
 
 

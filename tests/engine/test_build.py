@@ -6,6 +6,7 @@ Nothing in quadlib names them. The engine must run it, equal to the readable loo
 compiled copy in the cache folder under a name made of its kernels, and say once that it compiles.
 """
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -104,6 +105,7 @@ def test_a_model_from_outside_quadlib_runs_compiled_equal_to_the_readable_loop(m
 
 def test_the_copy_is_named_by_its_kernels_and_says_once_that_it_compiles(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("QUADLIB_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("QUADLIB_PROGRESS", "on")  # the test suite switches notices off
     monkeypatch.setattr(runner, "_LOOPS", {})  # as in a new process
     monkeypatch.setattr(build, "_LOADED", {})
     t, u, z = _log()
@@ -121,6 +123,10 @@ def test_the_copy_is_named_by_its_kernels_and_says_once_that_it_compiles(tmp_pat
     assert "sensor_0_h = tests.engine.test_build.range_h" in source
     run(CART)
     assert capsys.readouterr().err == ""  # compiled: silent
+    monkeypatch.setattr(build, "_LOADED", {})
+    monkeypatch.setattr(runner, "_LOOPS", {})
+    run(CART)
+    assert capsys.readouterr().err == ""  # and silent in a new process, which finds it on disk
     # other parameters are data, not code: the same copy; another kernel is another copy
     run(replace(CART, Q=Kernel("Q", cart_Q, [3.0]), name="windy cart"))
     assert len(list((tmp_path / "filters").glob("quadlib_ekf_*.py"))) == 1
@@ -152,6 +158,10 @@ def test_a_loop_numba_cannot_compile_warns_once_and_runs_readable(monkeypatch):
     with pytest.warns(RuntimeWarning, match="model 'cart' runs on the readable loop: numba could not compile"):
         with pytest.raises((TypeError, ValueError)):  # the readable loop then meets the string and names it
             run_filter(filt, t, u, [Measurements(sensor, t, z)])
+    with warnings.catch_warnings():  # once: the second run neither warns nor tries to compile again
+        warnings.simplefilter("error")
+        with pytest.raises((TypeError, ValueError)):
+            run_filter(ModelEKF(CART, [-4.0, 0.5], np.eye(2), 0.02), t, u, [Measurements(sensor, t, z)])
 
 
 def test_the_cache_folder_is_the_packages_unless_told(monkeypatch, tmp_path):
