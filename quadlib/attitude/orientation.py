@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -31,6 +32,7 @@ from quadlib.attitude.tilt import refined_tilt
 from quadlib.filters import ModelEKF
 from quadlib.geometry.quaternion import quat_to_dcm
 from quadlib.imu import ImuLog, as_imu_stream, gyro_with_gaps, rates_to_interval_start
+from quadlib.model import Model, Sensor
 from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
@@ -336,6 +338,24 @@ def _gyro_input(log: ImuLog, params: OrientationParams) -> np.ndarray:
     return log.gyro if params.gyro_gap_accel_rad_s2 is None else gyro_with_gaps(log.t, log.gyro)
 
 
+@lru_cache(maxsize=16)
+def _filter_parts(params: OrientationParams, offline: bool) -> tuple[Model, Sensor, Sensor, Sensor]:
+    """The model and the gravity, heading and zero-rate sensors of a pass with ``params``: built (and
+    checked) once a process for each setting, as the model and sensors are immutable."""
+    model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,
+                                params.gyro_gap_accel_rad_s2)
+    gated = params.accel_tau_s is None or params.gravity_reset_s is not None
+    tilt = gravity_sensor(params.gravity_sigma_m_s2, gated=gated)
+    if params.gravity_reset_s is not None:  # refused gravity: a sustained acceleration, until it lasts this long
+        tilt = replace(tilt, reset_after_s=params.gravity_reset_s)
+    # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal
+    heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline,
+                             tilt_aware=params.tilt_aware_heading and not offline)
+    if params.heading_reset_s is not None:
+        heading = replace(heading, reset_after_s=params.heading_reset_s, reset_needs_agreement=True)
+    return model, tilt, heading, zero_rate_sensor(params.gyro_sigma_rad_s)
+
+
 def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: float, start, rest, gravity,
                       offline: bool, engine: str, attitude=None):
     """One filter pass from ``start`` (:func:`~quadlib.attitude.start.initial_attitude`'s), with the
@@ -357,26 +377,15 @@ def _orientation_pass(log: ImuLog, params: OrientationParams, declination_rad: f
                                    first_field_s=params.mag_first_field_s)
     dt = float(np.median(log.dt))
     P0 = np.diag([0.05**2] * 3 + [params.initial_bias_sigma_rad_s**2] * 3)
-    model = attitude_bias_model(params.gyro_sigma_rad_s, params.gyro_bias_walk_rad_s_sqrt_s, params.gyro_range_rad_s,
-                                params.gyro_gap_accel_rad_s2)
+    model, tilt, heading, zero_rate = _filter_parts(params, offline)
     ekf = ModelEKF(model, np.r_[q0, 0.0, 0.0, 0.0], P0, dt)
-    gated = params.accel_tau_s is None or params.gravity_reset_s is not None
-    tilt = gravity_sensor(params.gravity_sigma_m_s2, gated=gated)
-    if params.gravity_reset_s is not None:  # refused gravity: a sustained acceleration, until it lasts this long
-        tilt = replace(tilt, reset_after_s=params.gravity_reset_s)
     measurements = [Measurements(tilt, log.t, accel)]
     if has_mag:
         context = np.where(good_m[:, None], log.mag, np.nan)
-        # offline, the ordinary heading update: the backward pass assumes the forward gain is optimal
-        heading = heading_sensor(params.heading_sigma_rad, corrects_bias=offline,
-                                 tilt_aware=params.tilt_aware_heading and not offline)
-        if params.heading_reset_s is not None:
-            heading = replace(heading, reset_after_s=params.heading_reset_s, reset_needs_agreement=True)
         measurements.append(Measurements(heading, log.t,
                                          np.full(len(log), declination_rad), context=context))
     if rest is not None:
-        measurements.append(Measurements(zero_rate_sensor(params.gyro_sigma_rad_s), log.t,
-                                         np.where(rest[:, None], log.gyro, np.nan)))
+        measurements.append(Measurements(zero_rate, log.t, np.where(rest[:, None], log.gyro, np.nan)))
     run = run_filter(ekf, log.t, _gyro_input(log, params), measurements, gate_probability=params.gate_probability,
                      engine=engine)
     held = np.isnan(log.gyro).any(axis=1)
