@@ -40,6 +40,7 @@ reference point, which is moved to this log's origin so the two can be compared.
 from __future__ import annotations
 
 import datetime
+import importlib
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -181,9 +182,21 @@ def _position_in_origin(lpos_ned, ref_lla, origin) -> np.ndarray:
     return out
 
 
+def _log_reader(module: str, loader: str):
+    """The module ``module``, which only the loaders need (``pip install "quadlib[logs]"``), or an error
+    that says so."""
+    package = module.split(".")[0]
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as err:
+        raise ModuleNotFoundError(f"{loader}: expected the package {package!r} to read the log, got none installed; "
+                                  f'install it with pip install "quadlib[logs]" (or pip install {package})',
+                                  name=package) from err
+
+
 def load_px4_log(log: str | os.PathLike = "px4/01_07_59.px4log") -> FlightLog:
     """Read a legacy sdlog2 ``.px4log`` (by name in the data folder, or a path) as a :class:`FlightLog`."""
-    from pymavlink import DFReader  # only the loaders need it
+    DFReader = _log_reader("pymavlink.DFReader", "load_px4_log")
 
     path = _resolve(log, ".px4log")
     wanted = {"IMU", "SENS", "GPS", "ATT", "LPOS"}
@@ -299,7 +312,7 @@ def load_ulog(log: str | os.PathLike = "px4/sample.ulg") -> FlightLog:
     magnetometer, barometer, GPS and the autopilot's position where the log has them, from the
     topics of old and current PX4 versions (module documentation).
     """
-    from pyulog import ULog  # only the loaders need it
+    ULog = _log_reader("pyulog", "load_ulog").ULog
 
     path = _resolve(log, ".ulg")
     try:

@@ -1,5 +1,7 @@
 """PX4 loaders: fields, units, frames and time alignment checked against physics and the autopilot."""
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -143,3 +145,12 @@ def HANDHELD_BYTES():
     from quadlib.data import data_path
 
     return data_path("px4/sample.ulg").read_bytes()
+
+
+@pytest.mark.parametrize("loader, package", [(load_ulog, "pyulog"), (load_px4_log, "pymavlink")])
+def test_a_missing_log_reader_says_what_to_install(loader, package, monkeypatch):
+    monkeypatch.setitem(sys.modules, package, None)  # as if not installed
+    monkeypatch.delitem(sys.modules, f"{package}.DFReader", raising=False)
+    with pytest.raises(ModuleNotFoundError, match=rf"{loader.__name__}: expected the package '{package}'.*"
+                                                  r'pip install "quadlib\[logs\]"'):
+        loader()
