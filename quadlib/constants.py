@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_number, as_positive
+from quadlib.validation import as_angle, as_finite_number, as_positive
 
 __all__ = ["G0", "GRAVITY_N", "SATURATED", "earth_field_ned"]
 
@@ -40,5 +40,5 @@ def earth_field_ned(strength, inclination_rad, declination_rad=0.0) -> np.ndarra
     """
     s = as_positive("strength", strength)
     inc = as_finite_number("inclination_rad", inclination_rad)
-    dec = as_finite_number("declination_rad", declination_rad)
+    dec = as_angle("declination_rad", declination_rad)
     return s * np.array([np.cos(inc) * np.cos(dec), np.cos(inc) * np.sin(dec), np.sin(inc)])

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "as_angle",
     "as_bool",
     "as_count",
     "as_covariance",
@@ -171,6 +172,15 @@ def as_finite_number(name: str, value) -> float:
     x = _real(name, value)
     if not np.isfinite(x):
         raise ValueError(f"{name}: expected a finite number, got {value!r}")
+    return x
+
+
+def as_angle(name: str, value) -> float:
+    """Return ``value`` as an angle in radians within [−π, π] (a declination): a number outside is
+    refused, as it is most likely in degrees."""
+    x = as_finite_number(name, value)
+    if abs(x) > np.pi:
+        raise ValueError(f"{name}: expected radians within [-π, π], got {value!r} (degrees? use np.radians)")
     return x
 
 

@@ -160,3 +160,15 @@ def test_as_optional_passes_none_and_says_so_when_it_refuses():
         as_optional(as_count, "n", 1, low=2)
     with pytest.raises(TypeError, match=r"^flag: expected True or False or None, got 'yes'$"):
         as_optional(as_bool, "flag", "yes")
+
+
+def test_a_declination_outside_half_a_turn_is_refused_as_degrees():
+    from quadlib.attitude.orientation import estimate_orientation
+    from quadlib.validation import as_angle
+
+    assert as_angle("declination_rad", -np.pi) == -np.pi
+    with pytest.raises(ValueError, match=r"declination_rad: expected radians within \[-π, π\], got 3.3 \(degrees\?"):
+        as_angle("declination_rad", 3.3)
+    t = np.arange(50) * 0.01
+    with pytest.raises(ValueError, match="declination_rad: expected radians"):
+        estimate_orientation(t, np.zeros((50, 3)), np.tile([0.0, 0.0, -9.81], (50, 1)), declination_rad=10.0)

@@ -37,7 +37,7 @@ from quadlib.plausibility import check_imu_units, check_mag_frame, warn_unused
 from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements
 from quadlib.sensors import gravity_sensor, heading_sensor, zero_rate_sensor
-from quadlib.validation import as_bool, as_finite_number, as_times, check_fields
+from quadlib.validation import as_angle, as_bool, as_times, check_fields
 
 __all__ = ["OrientationParams", "estimate_orientation", "gravity_sensor", "heading_sensor", "orientation_run",
            "zero_rate_sensor"]
@@ -308,7 +308,7 @@ def orientation_run(log: ImuLog, params: OrientationParams = OrientationParams()
     if not isinstance(params, OrientationParams):
         raise TypeError(f"params: expected an OrientationParams, got {type(params).__name__}")
     offline, compiled = as_bool("offline", offline), as_bool("compiled", compiled)
-    declination_rad = as_finite_number("declination_rad", declination_rad)
+    declination_rad = as_angle("declination_rad", declination_rad)
     engine = "auto" if compiled else "readable"
     start = initial_attitude(log, declination_rad)
     rest = None if params.rest_min_s is None else rest_mask(log, params.rest_gyro_rad_s, params.rest_accel_m_s2,

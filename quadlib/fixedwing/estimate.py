@@ -35,7 +35,7 @@ from quadlib.imu import ImuLog
 from quadlib.model import Sensor
 from quadlib.replay import FilterRun, run_filter
 from quadlib.samples import Measurements
-from quadlib.validation import as_bool, as_count, as_finite_number, as_instance, as_positive, check_fields
+from quadlib.validation import as_angle, as_bool, as_count, as_finite_number, as_instance, as_positive, check_fields
 
 __all__ = ["FixedWingParams", "complementary_attitude", "error_state_ukf", "estimate_fixedwing_attitude",
            "fixedwing_measurements", "initial_state", "multiplicative_ekf", "salmony_ekf"]
@@ -216,7 +216,7 @@ def complementary_attitude(log: ImuLog, declination_rad: float, tau_s: float = 1
     log = as_instance("log", log, ImuLog)
     if log.mag is None:
         raise ValueError("log.mag: expected magnetometer samples (NaN where missing), got None")
-    declination_rad = as_finite_number("declination_rad", declination_rad)
+    declination_rad = as_angle("declination_rad", declination_rad)
     dt = float(log.t[1] - log.t[0])
     roll_pitch = euler_rate_complementary(dt, log.gyro, log.accel, as_positive("tau_s", tau_s))
     present = ~np.isnan(log.mag).any(axis=1)

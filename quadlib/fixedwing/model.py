@@ -41,7 +41,7 @@ from quadlib.imu import ImuNoise
 from quadlib.kernels import fixedwing as fw
 from quadlib.model import Model, Sensor
 from quadlib.sensors import GYRO_NAMES
-from quadlib.validation import as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
+from quadlib.validation import as_angle, as_finite_array, as_finite_number, as_float_array, as_positive, as_vector
 
 __all__ = ["FixedWingNoise", "accel_jacobian", "accel_model", "airspeed_from_pressure", "fixedwing_A",
            "fixedwing_accel_sensor", "fixedwing_f", "fixedwing_mag_sensor", "fixedwing_model",
@@ -220,6 +220,6 @@ def fixedwing_mag_sensor(declination_rad: float, sigma: float, inclination_rad: 
     horizontal field. ``sigma`` is per axis of the unit vector."""
     s = as_positive("sigma", sigma)
     field_n = earth_field_ned(1.0, as_finite_number("inclination_rad", inclination_rad),
-                              as_finite_number("declination_rad", declination_rad))
+                              as_angle("declination_rad", declination_rad))
     return Sensor(name="mag", measurement_names=("mx", "my", "mz"), h=Kernel("h", fw.unit_field, field_n),
                   H=Kernel("H", fw.unit_field_H, field_n), R=s**2 * np.eye(3))

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from quadlib.validation import as_finite_array, as_finite_number, as_float_array
+from quadlib.validation import as_angle, as_finite_array, as_float_array
 
 __all__ = ["FREE_FALL_M_S2", "accel_tilt", "dcm_dyaw", "dcm_to_euler", "euler_rate_matrix", "euler_to_dcm",
            "mag_heading", "wrap_angle"]
@@ -130,4 +130,4 @@ def mag_heading(m_b, roll, pitch, declination_rad: float = 0.0) -> np.ndarray:
     cr, sr, cp, sp = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch)
     level_x = cp * mx + sp * (sr * my + cr * mz)
     level_y = cr * my - sr * mz
-    return wrap_angle(np.arctan2(-level_y, level_x) + as_finite_number("declination_rad", declination_rad))
+    return wrap_angle(np.arctan2(-level_y, level_x) + as_angle("declination_rad", declination_rad))

@@ -53,6 +53,7 @@ from quadlib.replay import FilterRun, rts_smooth, run_filter
 from quadlib.samples import Measurements, Samples
 from quadlib.sensors import heading_sensor
 from quadlib.validation import (
+    as_angle,
     as_bool,
     as_count,
     as_finite_array,
@@ -256,7 +257,7 @@ def ins_initial_state(log: ImuLog, position, velocity, declination_rad: float = 
     samples (Kesten eqs. 2.2–2.5, turned by the declination), the given position and velocity, biases
     zero. Without a magnetometer (or without a reading in the log) the heading starts at north."""
     log = as_instance("log", log, ImuLog)
-    declination_rad = as_finite_number("declination_rad", declination_rad)
+    declination_rad = as_angle("declination_rad", declination_rad)
     n_average = as_count("n_average", n_average, high=len(log))
     f = np.nanmean(log.accel[:n_average], axis=0)
     # without a magnetometer reading a "field" along body x: the body's heading is north
@@ -325,7 +326,7 @@ def estimate_ins(log: ImuLog, gps: Samples, baro: Samples | None = None, params:
         raise ValueError("offline: expected the heading-only update for the smoother (its backward pass assumes an "
                          "optimal forward gain, which the tilt-aware consider update is not), got "
                          "InsParams(heading_tilt_aware=True)")
-    declination_rad = as_finite_number("declination_rad", declination_rad)
+    declination_rad = as_angle("declination_rad", declination_rad)
     check_imu_units(log.t, log.gyro, log.accel, names=("log.t", "log.gyro", "log.accel"))
     check_gps_metres(gps.t, gps.z)
     if log.mag is not None:
