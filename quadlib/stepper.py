@@ -59,6 +59,7 @@ class _Log:
         self.agreement = agreement  # (W, z) of agreement_test, when a reset needs the refused readings to agree
         self.refused = np.zeros((n, sensor.dim_z + 2))  # per group: its lock-out's (add_refused)
         self.rejected, self.expired = np.zeros(n, np.bool_), np.zeros(n, np.bool_)
+        self.locked = False  # whether any group is locked out (else a passed sample has nothing to end)
         self.row_group = np.empty(sensor.dim_z, np.int64)
         for g, rows in enumerate(sensor.groups):
             self.row_group[list(rows)] = g
@@ -75,13 +76,17 @@ class _Log:
         whitened = W @ inn.y if W is not None else np.zeros(self.sensor.dim_z)
         lockout_expired(self.rejected, self.locked_since, self.refused, t_j, float(self.sensor.reset_after_s), z,
                         whitened, self.row_group, self.expired)
+        self.locked = True
         return tuple(np.flatnonzero(self.expired).tolist())
 
     def lockout_ends(self, inn) -> None:
         """End the lock-out of every group ``inn`` did not reject (:func:`~quadlib.engine.numerics.lockout_cleared`)."""
+        if not self.locked:
+            return
         self.rejected[:] = False
         self.rejected[list(inn.rejected_groups)] = True
         lockout_cleared(self.rejected, self.locked_since, self.refused)
+        self.locked = not np.isnan(self.locked_since).all()
 
     def screen(self, t_j: float, z: np.ndarray, c) -> tuple[bool, bool]:
         """``(missing, duplicate)`` of the next sample, in the order the sensor took them."""
