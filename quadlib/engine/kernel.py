@@ -5,7 +5,7 @@ A :class:`Kernel` is what a :class:`~quadlib.model.Model` field (``g``, ``G``, `
 the compiled kernels of :mod:`quadlib.kernels`: the numba function and the numbers it needs (a
 noise density, a reference vector), bound together. Called from Python — by the readable filters,
 by a chapter — it behaves like the plain function the field documents (``g(x, u, dt)``, ``h(x)``
-or ``h(x, c)`` …). The compiled engine (:mod:`quadlib.engine.loop`) reads ``function`` and
+or ``h(x, c)`` …). The compiled engine (:mod:`quadlib.engine.template`) reads ``function`` and
 ``params`` instead and calls the same numba function inside its loop: one implementation, two
 callers.
 
