@@ -1,13 +1,13 @@
 """A model's or a sensor's function written once, in numba, and held by a Model or a Sensor.
 
 A :class:`Kernel` is what a :class:`~quadlib.model.Model` field (``g``, ``G``, ``Q`` …) or a
-:class:`~quadlib.model.Sensor` field (``h``, ``H``, ``residual``) holds when the function is one of
-the compiled kernels of :mod:`quadlib.kernels`: the numba function and the numbers it needs (a
-noise density, a reference vector), bound together. Called from Python — by the readable filters,
-by a chapter — it behaves like the plain function the field documents (``g(x, u, dt)``, ``h(x)``
-or ``h(x, c)`` …). The compiled engine (:mod:`quadlib.engine.template`) reads ``function`` and
-``params`` instead and calls the same numba function inside its loop: one implementation, two
-callers.
+:class:`~quadlib.model.Sensor` field (``h``, ``H``, ``residual``) holds when the function is compiled
+with numba — one of :mod:`quadlib.kernels`, or a user's own ``@njit`` function: the numba function
+and the numbers it needs (a noise density, a reference vector), bound together. Called from
+Python — by the readable filters, by a chapter — it behaves like the plain function the field
+documents (``g(x, u, dt)``, ``h(x)`` or ``h(x, c)`` …). The compiled engine
+(:mod:`quadlib.engine.template`) reads ``function`` and ``params`` instead and calls the same numba
+function inside its loop: one implementation, two callers.
 
 Every kernel takes its parameters last, as one float array: ``g(x, u, dt, p)``, ``G(x, u, dt, p)``,
 ``Q(dt, p)``, ``input_noise(u, dt, p) -> (added, M)``, ``state_add(x, d, p)``,
