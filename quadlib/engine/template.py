@@ -116,7 +116,7 @@ def step_noise(mp, u, dt, q_dt, Q, fixed_Q):
     return Q, q_dt, Q
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ekf_predict(mp, x, P, u, dt, q_dt, Q, fixed_Q):
     """ModelEKF's predict: ``(x, P, q_dt, Q, healthy)`` (always healthy)."""
     Q_k, q_dt, Q = step_noise(mp, u, dt, q_dt, Q, fixed_Q)
@@ -137,7 +137,7 @@ def residual_rows(s, z, z_hat, sp, rows, every):
     return picked(sensor_residual(s, masked(z, rows), masked(z_hat, rows), sp), rows)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def ekf_correct(mp, sens, s, x, P, z, c, rows):
     """ModelEKF's update with the rows ``rows`` of sensor ``s``'s sample ``z``: the settled state,
     Joseph's ``P``, the innovation, ``S``, ``S⁻¹`` and whether it was healthy (always)."""
@@ -263,7 +263,7 @@ def correct(mp, sens, sig, s, x, P, z, c, rows):
     return ukf_correct(mp, sens, sig, s, x, P, z, c, rows)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def gated_update(mp, sens, sig, s, x, P, z, c, force, rejected, every_row):
     """One sample: ``(x, P, y, S, nis, used, healthy)``, the gate's verdict on each group in
     ``rejected``; groups in ``force`` pass it, and the groups that pass update on their own
