@@ -60,21 +60,31 @@ def _padded(rows: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
+def _kernels(owner: str, fields) -> tuple[dict, list[np.ndarray]] | str:
+    """The numba functions (role → function, None where ``used`` is False) and parameters of ``fields``,
+    ``(role, f, used)`` triples of ``owner``; or why one cannot be called."""
+    kernels, params = {}, []
+    for role, f, used in fields:
+        kernels[role], p = None, np.zeros(0)
+        if used:
+            found = _kernel(owner, role, f)
+            if isinstance(found, str):
+                return found
+            kernels[role], p = found, f.params
+        params.append(p)
+    return kernels, params
+
+
 def _model_kernels(model: Model, unscented: bool) -> tuple[dict, np.ndarray] | str:
     """``model``'s kernels (role → numba function or None) and their parameters, or why it has none."""
     if not isinstance(model, Model):
         return f"the model is a {type(model).__name__}"
-    kernels, params = {}, []
-    for role in MODEL_ROLES:
-        f = getattr(model, role)
-        kernels[role] = None
-        params.append(np.zeros(0))
-        if (f is None and role not in _REQUIRED) or (unscented and role in _UNUSED_BY_UKF):
-            continue
-        found = _kernel(f"model {model.name!r}", role, f)
-        if isinstance(found, str):
-            return found
-        kernels[role], params[-1] = found, f.params
+    found = _kernels(f"model {model.name!r}", [
+        (role, getattr(model, role), (getattr(model, role) is not None or role in _REQUIRED)
+         and not (unscented and role in _UNUSED_BY_UKF)) for role in MODEL_ROLES])
+    if isinstance(found, str):
+        return found
+    kernels, params = found
     kernels["G_identity"] = kernels["G"] is identity_jacobian  # I P Iᵀ is P: its product skipped
     return kernels, _padded(params, (len(MODEL_ROLES),))
 
@@ -88,16 +98,11 @@ def _sigma(filt: ModelUKF) -> tuple[dict, SigmaArrays] | str:
         return "the UKF's state_add is its own; the engine adds a correction"
     if points.subtract is not filt.residual_x:
         return "the UKF's sigma points subtract with another function than its residual_x"
-    kernels, params = {}, []
-    for role, f in (("residual_x", filt.residual_x), ("mean", filt.x_mean)):
-        kernels[role] = None
-        params.append(np.zeros(0))
-        if f is np.subtract or f is None:
-            continue
-        found = _kernel("the UKF", role, f)
-        if isinstance(found, str):
-            return found
-        kernels[role], params[-1] = found, f.params
+    found = _kernels("the UKF", [(role, f, f is not np.subtract and f is not None)
+                                 for role, f in (("residual_x", filt.residual_x), ("mean", filt.x_mean))])
+    if isinstance(found, str):
+        return found
+    kernels, params = found
     lam = points.alpha**2 * (points.n + points.kappa) - points.n
     return kernels, SigmaArrays(np.array(filt.Wm, np.float64), np.array(filt.Wc, np.float64), float(lam + points.n),
                                 _padded(params, (2,)))
@@ -107,23 +112,14 @@ def _sensor_kernels(sensors: list, unscented: bool) -> tuple[list[dict], np.ndar
     """Each sensor's kernels (role → numba function or None) and their parameters ``(S, 4, m)``."""
     kernels, params = [], []
     for s in sensors:
-        kernels.append({})
-        for role in ("h", "H", "residual", "mean"):
-            f = getattr(s, role)
-            kernels[-1][role] = None
-            params.append(np.zeros(0))
-            if (role == "residual" and f is np.subtract) or (role == "mean" and (f is None or not unscented)) or (
-                    role == "H" and unscented):
-                continue
-            found = _kernel(f"sensor {s.name!r}", role, f)
-            if isinstance(found, str):
-                return found
-            kernels[-1][role], params[-1] = found, f.params
+        found = _kernels(f"sensor {s.name!r}", [
+            ("h", s.h, True), ("H", s.H, not unscented), ("residual", s.residual, s.residual is not np.subtract),
+            ("mean", s.mean, unscented and s.mean is not None)])
+        if isinstance(found, str):
+            return found
+        kernels.append(found[0])
+        params += found[1]
     return kernels, _padded(params, (len(sensors), 4))
-
-
-def _label(filt, kind: str) -> str:
-    return f"{filt.model.name} {kind}"
 
 
 _LOOPS: dict[tuple, Compiled] = {}  # one build per filter's kernels and flags in a process
@@ -168,7 +164,7 @@ def plan(filt, measurements: list, gate_probability: float | None) -> Plan | str
     sensor_kernels, sensor_params = found
     key = (kind, filt.model.is_error_state, _frozen(model_kernels), tuple(map(_frozen, sensor_kernels)),
            _frozen(sigma_kernels))
-    loop = _loop(filter_loops, key, _label(filt, kind), kind, model_kernels, filt.model.is_error_state,
+    loop = _loop(filter_loops, key, f"{filt.model.name} {kind}", kind, model_kernels, filt.model.is_error_state,
                  sensor_kernels, sigma_kernels)
     if isinstance(loop, str):
         return loop
